@@ -1,0 +1,61 @@
+//! One WOGAN iteration (a training round plus choosing one test; no simulation) at growing data
+//! sizes, on a cheap synthetic SUT. Run single-threaded for one-core figures:
+//! `RAYON_NUM_THREADS=1 cargo bench --release -p wogan-core --bench iteration`.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha20Rng;
+use wogan_core::{Execution, Sampler, SamplerConfig, Sut, WoganConfig, WoganModel};
+
+/// A smooth bump as fitness; valid = a half-space (about 80% of random walks).
+struct Synthetic;
+
+impl Sut for Synthetic {
+    type Output = ();
+    fn dim(&self) -> usize {
+        5
+    }
+    fn is_valid(&self, t: &[f32]) -> bool {
+        t.iter().sum::<f32>() <= 2.0
+    }
+    fn execute(&self, t: &[f32]) -> Execution<()> {
+        let d2: f32 = t.iter().map(|v| (v - 0.4).powi(2)).sum();
+        Execution {
+            fitness: f64::from((-d2).exp()),
+            output: (),
+        }
+    }
+}
+
+fn iteration(c: &mut Criterion) {
+    let mut group = c.benchmark_group("wogan_iteration");
+    group.sample_size(20).measurement_time(Duration::from_secs(4));
+    for &n in &[300usize, 3_000, 30_000, 100_000] {
+        let mut rng = ChaCha20Rng::seed_from_u64(1);
+        let sut = Synthetic;
+        let sampler = Sampler::new(sut.dim(), SamplerConfig::default());
+        let mut model = WoganModel::new(sut.dim(), &WoganConfig::default(), &mut rng);
+        for _ in 0..n {
+            let t = sampler.sample(&mut rng);
+            let f = sut.execute(&t).fitness;
+            model.add(&t, f);
+        }
+        // The first round is longer (3 x 20 analyzer epochs); iterations are later rounds.
+        model.train(0.0, &mut rng).expect("first training");
+        let alpha = rng.random_range(0.0..3.0);
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| {
+                let stats = model.train(alpha, &mut rng).expect("training");
+                let p = model.propose(&sut, &sampler, &mut rng).expect("proposal");
+                black_box((stats, p))
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, iteration);
+criterion_main!(benches);

@@ -1,0 +1,145 @@
+//! The analyzer: a small regression network predicting a test's fitness.
+//!
+//! `d → hidden → hidden → 1`, ReLU, sigmoid output. It is trained on the pre-sigmoid output
+//! against `logit(0.98·y + 0.01)` (squeezing keeps the logit finite at fitness 0 and 1) with
+//! mean squared error plus `l2 ×` the squared L2 norm of all its parameters (weights and biases),
+//! Adam with the configured learning rate and betas. One analyzer epoch is one Adam step on all
+//! tests, or on `max_batch` of them sampled without replacement once there are more.
+
+use burn::nn::Linear;
+use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
+use burn::prelude::*;
+use burn::tensor::activation::{relu, sigmoid};
+use rand::Rng;
+
+use crate::config::AnalyzerConfig;
+use crate::error::Error;
+use crate::nn::{linear, scalar, values};
+
+/// Analyzer network.
+#[derive(Module, Debug)]
+pub struct Analyzer {
+    l1: Linear,
+    l2: Linear,
+    l3: Linear,
+}
+
+/// The logit target of a fitness value, as the analyzer is trained on it.
+pub(crate) fn logit_target(fitness: f64) -> f32 {
+    let y = 0.98 * fitness.clamp(0.0, 1.0) + 0.01;
+    (y / (1.0 - y)).ln() as f32
+}
+
+impl Analyzer {
+    /// An analyzer with weights drawn from `rng`.
+    pub fn new<R: Rng + ?Sized>(dim: usize, cfg: &AnalyzerConfig, rng: &mut R, device: &Device) -> Self {
+        Self {
+            l1: linear(rng, dim, cfg.hidden, device),
+            l2: linear(rng, cfg.hidden, cfg.hidden, device),
+            l3: linear(rng, cfg.hidden, 1, device),
+        }
+    }
+
+    /// Pre-sigmoid outputs `[n, 1]`.
+    pub fn logits(&self, x: Tensor<2>) -> Tensor<2> {
+        let h = relu(self.l1.forward(x));
+        let h = relu(self.l2.forward(h));
+        self.l3.forward(h)
+    }
+
+    /// Predicted fitness `[n, 1]` in `(0, 1)`.
+    pub fn predict(&self, x: Tensor<2>) -> Tensor<2> {
+        sigmoid(self.logits(x))
+    }
+
+    fn squared_norm(&self) -> Tensor<1> {
+        let mut total = self.l1.weight.val().powi_scalar(2).sum();
+        for w in [self.l2.weight.val(), self.l3.weight.val()] {
+            total = total + w.powi_scalar(2).sum();
+        }
+        for b in [&self.l1.bias, &self.l2.bias, &self.l3.bias].into_iter().flatten() {
+            total = total + b.val().powi_scalar(2).sum();
+        }
+        total
+    }
+
+    /// Training loss on inputs `[n, d]` and logit targets `[n, 1]`.
+    pub(crate) fn loss(&self, x: Tensor<2>, target: Tensor<2>, l2: f64) -> Tensor<1> {
+        let mse = (self.logits(x) - target).powi_scalar(2).mean();
+        mse + self.squared_norm().mul_scalar(l2)
+    }
+}
+
+/// An analyzer with its optimiser.
+pub(crate) struct AnalyzerTrainer {
+    pub model: Analyzer,
+    optim: ModuleOptimizer,
+    lr: f64,
+    l2: f64,
+}
+
+impl AnalyzerTrainer {
+    pub fn new<R: Rng + ?Sized>(dim: usize, cfg: &AnalyzerConfig, rng: &mut R, device: &Device) -> Self {
+        Self {
+            model: Analyzer::new(dim, cfg, rng, device),
+            optim: AdamConfig::new()
+                .with_beta_1(cfg.beta1)
+                .with_beta_2(cfg.beta2)
+                .with_epsilon(1e-8)
+                .init(),
+            lr: cfg.lr,
+            l2: cfg.l2,
+        }
+    }
+
+    /// One Adam step; returns the loss before the step.
+    pub fn step(&mut self, x: Tensor<2>, target: Tensor<2>) -> Result<f64, Error> {
+        let loss = self.model.loss(x, target, self.l2);
+        let grads = GradientsParams::from_grads(loss.backward(), &self.model);
+        let value = scalar(loss.detach())?;
+        let model = self.model.clone();
+        self.model = self.optim.step(self.lr, model, grads);
+        Ok(value)
+    }
+
+    /// Predicted fitness of row-major tests (without recording a graph).
+    pub fn predict(&self, x: Tensor<2>) -> Result<Vec<f32>, Error> {
+        values(self.model.valid().predict(x))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha20Rng;
+
+    #[test]
+    fn learns_a_simple_function() {
+        let device = Device::flex().autodiff();
+        let mut rng = ChaCha20Rng::seed_from_u64(7);
+        let d = 3;
+        let n = 128;
+        let mut xs = Vec::new();
+        let mut ys = Vec::new();
+        for _ in 0..n {
+            let x: Vec<f32> = (0..d).map(|_| rng.random_range(-1.0f32..1.0)).collect();
+            // Fitness rises with the first coordinate.
+            let f = f64::from((x[0] + 1.0) / 2.0);
+            xs.extend(x);
+            ys.push(logit_target(f));
+        }
+        let mut t = AnalyzerTrainer::new(d, &AnalyzerConfig::default(), &mut rng, &device);
+        let x = crate::nn::matrix(xs, n, d, &device);
+        let y = crate::nn::matrix(ys, n, 1, &device);
+        let first = t.step(x.clone(), y.clone()).unwrap();
+        let mut last = first;
+        for _ in 0..300 {
+            last = t.step(x.clone(), y.clone()).unwrap();
+        }
+        assert!(last < 0.5 * first, "loss {first} → {last}");
+        let probe = crate::nn::matrix(vec![-0.9, 0.0, 0.0, 0.9, 0.0, 0.0], 2, d, &device.clone().without_autodiff());
+        let p = t.predict(probe).unwrap();
+        assert!(p[1] > p[0] + 0.3, "predictions {p:?}");
+    }
+}

@@ -1,0 +1,26 @@
+//! Errors a run can end with.
+
+/// Why a run could not start or continue.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A configuration value is out of range.
+    #[error("invalid configuration: {0}")]
+    Config(String),
+    /// The random sampler found no valid test within its attempt limit.
+    #[error("no valid test found in {attempts} random samples")]
+    NoValidTest {
+        /// How many samples were tried.
+        attempts: usize,
+    },
+    /// The worker thread pool for `jobs > 1` could not be built.
+    #[error("could not start {jobs} worker threads: {message}")]
+    ThreadPool {
+        /// Requested number of workers.
+        jobs: usize,
+        /// The pool builder's message.
+        message: String,
+    },
+    /// A tensor could not be read back (should not happen on the CPU backend).
+    #[error("tensor read-back failed: {0}")]
+    Tensor(String),
+}

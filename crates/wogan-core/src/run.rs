@@ -1,0 +1,418 @@
+//! One search run: the pipeline from budget and seed to streamed events and a summary.
+//!
+//! `random` executes random valid tests for the whole budget. `wogan` executes random valid tests
+//! for the first `init_fraction` of the schedule, then retrains every `train_every` tests and
+//! executes the test the networks propose. `stop` is checked between tests, so a Ctrl-C handler
+//! that sets it ends the run after the current test with everything so far reported.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha20Rng;
+use serde::Serialize;
+
+use crate::budget::Budget;
+use crate::config::{Algorithm, RunConfig};
+use crate::error::Error;
+use crate::random::{execute_all, sample_tests};
+use crate::sampler::Sampler;
+use crate::sut::{clamp_fitness, Sut};
+use crate::wogan::WoganModel;
+
+/// Which part of the algorithm produced a test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Phase {
+    /// The random sampler.
+    Random,
+    /// The WOGAN generator and analyzer (or the random fallback after too many invalid
+    /// candidates, marked by `predicted_fitness: None`).
+    Wogan,
+}
+
+/// Something that happened during a run, reported as soon as it is known.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event<O> {
+    /// A test was executed.
+    Test {
+        /// 1-based position in the run.
+        id: usize,
+        /// Who proposed it.
+        phase: Phase,
+        /// The normalised test vector.
+        test: Vec<f32>,
+        /// Fitness in `[0, 1]` (clamped).
+        fitness: f64,
+        /// The analyzer's prediction, when WOGAN chose it.
+        predicted_fitness: Option<f64>,
+        /// Invalid candidates rejected since the previous executed test.
+        invalid_candidates: usize,
+        /// Time spent choosing this test (validity checks included, training excluded).
+        generation_ms: f64,
+        /// The SUT's report.
+        output: O,
+    },
+    /// WOGAN finished a training round.
+    Train {
+        /// Analyzer loss of its last step.
+        analyzer_loss: f64,
+        /// Critic loss of its last step.
+        critic_loss: f64,
+        /// Generator loss of its last step.
+        generator_loss: f64,
+        /// Critic's Wasserstein estimate.
+        wasserstein_estimate: f64,
+        /// Duration of the round.
+        train_ms: f64,
+        /// Tests the round learnt from.
+        tests: usize,
+    },
+}
+
+/// Totals of a finished run.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Summary {
+    /// Executed tests.
+    pub executed: usize,
+    /// Invalid candidates rejected in total.
+    pub invalid_candidates: usize,
+    /// Time spent choosing tests.
+    pub generation_s: f64,
+    /// Time spent training networks.
+    pub training_s: f64,
+    /// Wall time spent executing tests.
+    pub simulation_s: f64,
+    /// Wall time of the whole run.
+    pub wall_s: f64,
+    /// Whether `stop` ended the run before the budget did.
+    pub stopped_by_signal: bool,
+}
+
+struct Runner<'a> {
+    budget: Budget,
+    stop: &'a AtomicBool,
+    start: Instant,
+    summary: Summary,
+}
+
+impl Runner<'_> {
+    fn elapsed(&self) -> Duration {
+        self.start.elapsed()
+    }
+
+    /// Whether the run must end now (and why, recorded in the summary).
+    fn should_stop(&mut self) -> bool {
+        if self.stop.load(Ordering::Relaxed) {
+            self.summary.stopped_by_signal = true;
+            return true;
+        }
+        self.budget.exhausted(self.summary.executed, self.elapsed())
+    }
+
+    fn remaining_tests(&self) -> usize {
+        self.budget
+            .max_tests
+            .map_or(usize::MAX, |m| m.saturating_sub(self.summary.executed))
+    }
+}
+
+/// Runs one search.
+///
+/// `budget` limits tests and/or wall time (with neither, 300 tests). All random choices flow from
+/// `seed`. Events are passed to `on_event` in order as they happen; the returned summary holds
+/// the totals. Errors: an invalid configuration, a SUT of dimension 0, or a sampler that finds no
+/// valid test.
+pub fn run<S: Sut + ?Sized>(
+    sut: &S,
+    config: &RunConfig,
+    budget: Budget,
+    seed: u64,
+    stop: &AtomicBool,
+    on_event: &mut dyn FnMut(Event<S::Output>),
+) -> Result<Summary, Error> {
+    config.validate()?;
+    let dim = sut.dim();
+    if dim == 0 {
+        return Err(Error::Config("the SUT's dimension is 0".into()));
+    }
+    let pool = if config.jobs > 1 {
+        Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(config.jobs)
+                .build()
+                .map_err(|e| Error::ThreadPool {
+                    jobs: config.jobs,
+                    message: e.to_string(),
+                })?,
+        )
+    } else {
+        None
+    };
+    let mut rng = ChaCha20Rng::seed_from_u64(seed);
+    let sampler = Sampler::new(dim, config.sampler.clone());
+    let mut r = Runner {
+        budget: budget.effective(),
+        stop,
+        start: Instant::now(),
+        summary: Summary::default(),
+    };
+    let w = &config.wogan;
+
+    // Random phase: the whole run for `random`, the first share for `wogan`.
+    let mut executed_tests: Vec<(Vec<f32>, f64)> = Vec::new();
+    loop {
+        if r.should_stop() {
+            break;
+        }
+        let (elapsed, done) = (r.elapsed(), r.summary.executed);
+        if config.algorithm == Algorithm::Wogan
+            && r.budget.initial_phase_over(w.init_fraction, done, elapsed)
+        {
+            break;
+        }
+        let mut count = config.jobs.min(r.remaining_tests());
+        if config.algorithm == Algorithm::Wogan {
+            if let Some(m) = r.budget.max_tests {
+                let init = ((w.init_fraction * m as f64).round() as usize).max(1);
+                count = count.min(init.saturating_sub(done)).max(1);
+            }
+        }
+        let sampled = sample_tests(sut, &sampler, &mut rng, count)?;
+        let t0 = Instant::now();
+        let results = execute_all(sut, &sampled, pool.as_ref());
+        r.summary.simulation_s += t0.elapsed().as_secs_f64();
+        for (s, e) in sampled.into_iter().zip(results) {
+            let fitness = clamp_fitness(e.fitness);
+            r.summary.executed += 1;
+            r.summary.invalid_candidates += s.invalid;
+            r.summary.generation_s += s.generation_s;
+            if config.algorithm == Algorithm::Wogan {
+                executed_tests.push((s.test.clone(), fitness));
+            }
+            on_event(Event::Test {
+                id: r.summary.executed,
+                phase: Phase::Random,
+                test: s.test,
+                fitness,
+                predicted_fitness: None,
+                invalid_candidates: s.invalid,
+                generation_ms: s.generation_s * 1e3,
+                output: e.output,
+            });
+        }
+    }
+
+    if config.algorithm == Algorithm::Wogan && !r.should_stop() {
+        let mut model = WoganModel::new(dim, w, &mut rng);
+        for (t, f) in &executed_tests {
+            model.add(t, *f);
+        }
+        drop(executed_tests);
+        let mut since_train = usize::MAX;
+        while !r.should_stop() {
+            if since_train >= w.train_every {
+                let alpha =
+                    r.budget
+                        .alpha(w.init_fraction, w.alpha_max, r.summary.executed, r.elapsed());
+                let t0 = Instant::now();
+                let stats = model.train(alpha, &mut rng)?;
+                let train_s = t0.elapsed().as_secs_f64();
+                r.summary.training_s += train_s;
+                since_train = 0;
+                on_event(Event::Train {
+                    analyzer_loss: stats.analyzer_loss,
+                    critic_loss: stats.critic_loss,
+                    generator_loss: stats.generator_loss,
+                    wasserstein_estimate: stats.wasserstein_estimate,
+                    train_ms: train_s * 1e3,
+                    tests: model.len(),
+                });
+                // Training can be long: honour a stop or an expired clock before proposing.
+                if r.should_stop() {
+                    break;
+                }
+            }
+            let t0 = Instant::now();
+            let p = model.propose(sut, &sampler, &mut rng)?;
+            let generation_s = t0.elapsed().as_secs_f64();
+            let t1 = Instant::now();
+            let e = sut.execute(&p.test);
+            r.summary.simulation_s += t1.elapsed().as_secs_f64();
+            let fitness = clamp_fitness(e.fitness);
+            model.add(&p.test, fitness);
+            since_train += 1;
+            r.summary.executed += 1;
+            r.summary.invalid_candidates += p.invalid;
+            r.summary.generation_s += generation_s;
+            on_event(Event::Test {
+                id: r.summary.executed,
+                phase: Phase::Wogan,
+                test: p.test,
+                fitness,
+                predicted_fitness: p.predicted,
+                invalid_candidates: p.invalid,
+                generation_ms: generation_s * 1e3,
+                output: e.output,
+            });
+        }
+    }
+    r.summary.wall_s = r.elapsed().as_secs_f64();
+    Ok(r.summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Execution;
+
+    /// Fitness: a bump around a valid point; validity: a half-space through the bump's edge.
+    struct Bump;
+    const CENTRE: [f32; 5] = [0.6, 0.4, 0.6, 0.4, 0.5];
+    impl Sut for Bump {
+        type Output = f32;
+        fn dim(&self) -> usize {
+            5
+        }
+        fn is_valid(&self, t: &[f32]) -> bool {
+            t.iter().sum::<f32>() <= 2.8
+        }
+        fn execute(&self, t: &[f32]) -> Execution<f32> {
+            assert!(self.is_valid(t), "an invalid test was executed");
+            let d2: f32 = t.iter().zip(CENTRE).map(|(a, b)| (a - b).powi(2)).sum();
+            Execution {
+                fitness: f64::from((-d2 / 0.5).exp()),
+                output: d2,
+            }
+        }
+    }
+
+    fn collect(config: &RunConfig, budget: Budget, seed: u64) -> (Vec<Event<f32>>, Summary) {
+        let stop = AtomicBool::new(false);
+        let mut events = Vec::new();
+        let summary = run(&Bump, config, budget, seed, &stop, &mut |e| events.push(e)).unwrap();
+        (events, summary)
+    }
+
+    fn tests_of(events: &[Event<f32>]) -> Vec<(usize, Phase, Vec<f32>, f64)> {
+        events
+            .iter()
+            .filter_map(|e| match e {
+                Event::Test {
+                    id,
+                    phase,
+                    test,
+                    fitness,
+                    ..
+                } => Some((*id, *phase, test.clone(), *fitness)),
+                Event::Train { .. } => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn wogan_beats_random_on_a_bump() {
+        let budget = Budget {
+            max_tests: Some(200),
+            wall: None,
+        };
+        let wogan = RunConfig::default();
+        let random = RunConfig {
+            algorithm: Algorithm::Random,
+            ..RunConfig::default()
+        };
+        let mean_tail = |config: &RunConfig| {
+            let (events, summary) = collect(config, budget, 5);
+            assert_eq!(summary.executed, 200);
+            let t = tests_of(&events);
+            assert_eq!(t.len(), 200);
+            for (i, (id, ..)) in t.iter().enumerate() {
+                assert_eq!(*id, i + 1);
+            }
+            let tail = &t[160..];
+            tail.iter().map(|x| x.3).sum::<f64>() / tail.len() as f64
+        };
+        let w = mean_tail(&wogan);
+        let r = mean_tail(&random);
+        assert!(w > r + 0.05, "WOGAN {w} vs random {r}");
+    }
+
+    #[test]
+    fn same_seed_same_tests() {
+        let config = RunConfig {
+            wogan: crate::WoganConfig {
+                init_fraction: 0.5,
+                ..Default::default()
+            },
+            ..RunConfig::default()
+        };
+        let budget = Budget {
+            max_tests: Some(30),
+            wall: None,
+        };
+        let (a, sa) = collect(&config, budget, 9);
+        let (b, _) = collect(&config, budget, 9);
+        let (c, _) = collect(&config, budget, 10);
+        let (ta, tb, tc) = (tests_of(&a), tests_of(&b), tests_of(&c));
+        assert_eq!(ta, tb);
+        assert_ne!(ta, tc);
+        assert_eq!(ta.iter().filter(|t| t.1 == Phase::Random).count(), 15);
+        assert_eq!(ta.iter().filter(|t| t.1 == Phase::Wogan).count(), 15);
+        let trains = a.iter().filter(|e| matches!(e, Event::Train { .. })).count();
+        assert_eq!(trains, 5, "retrain every 3 tests");
+        assert_eq!(sa.executed, 30);
+    }
+
+    #[test]
+    fn parallel_random_phase_matches_serial() {
+        let budget = Budget {
+            max_tests: Some(25),
+            wall: None,
+        };
+        let serial = RunConfig {
+            algorithm: Algorithm::Random,
+            ..RunConfig::default()
+        };
+        let parallel = RunConfig { jobs: 3, ..serial.clone() };
+        let (a, _) = collect(&serial, budget, 1);
+        let (b, sb) = collect(&parallel, budget, 1);
+        assert_eq!(tests_of(&a), tests_of(&b));
+        assert_eq!(sb.executed, 25);
+    }
+
+    #[test]
+    fn stop_flag_ends_the_run_after_the_current_test() {
+        let stop = AtomicBool::new(false);
+        let mut n = 0;
+        let summary = run(
+            &Bump,
+            &RunConfig::default(),
+            Budget::default(),
+            1,
+            &stop,
+            &mut |e| {
+                if matches!(e, Event::Test { .. }) {
+                    n += 1;
+                    if n == 7 {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+            },
+        )
+        .unwrap();
+        assert_eq!(summary.executed, 7);
+        assert!(summary.stopped_by_signal);
+    }
+
+    #[test]
+    fn wall_clock_budget_ends_the_run() {
+        let budget = Budget {
+            max_tests: None,
+            wall: Some(Duration::from_millis(300)),
+        };
+        let (_, s) = collect(&RunConfig::default(), budget, 2);
+        assert!(s.executed > 0);
+        assert!(!s.stopped_by_signal);
+        assert!(s.wall_s < 5.0);
+    }
+}

@@ -1,0 +1,119 @@
+//! The paper's random test sampler (used by WOGAN's initial phase and the random baseline).
+//!
+//! A random walk: the first value is uniform in `[-1, 1]`, each next value moves by a uniform
+//! step of at most `max_step`, clipped to `[-1, 1]`. Smooth vectors like these are far more
+//! often valid roads than independent uniform values.
+
+use rand::{Rng, RngExt};
+
+use crate::config::SamplerConfig;
+use crate::error::Error;
+use crate::sut::Sut;
+
+/// Draws random test vectors, optionally until one is valid.
+#[derive(Debug, Clone)]
+pub struct Sampler {
+    dim: usize,
+    config: SamplerConfig,
+}
+
+impl Sampler {
+    /// A sampler of `dim`-long vectors.
+    pub fn new(dim: usize, config: SamplerConfig) -> Self {
+        Self { dim, config }
+    }
+
+    /// One random walk, valid or not.
+    pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> Vec<f32> {
+        let s = self.config.max_step;
+        let mut out = Vec::with_capacity(self.dim);
+        let mut prev: f32 = rng.random_range(-1.0f32..=1.0);
+        for i in 0..self.dim {
+            if i > 0 {
+                let step = if s > 0.0 {
+                    rng.random_range(-s..=s)
+                } else {
+                    0.0
+                };
+                prev = (prev + step).clamp(-1.0, 1.0);
+            }
+            out.push(prev);
+        }
+        out
+    }
+
+    /// Samples until the SUT accepts a test; adds the rejected ones to `invalid`.
+    pub fn sample_valid<S: Sut + ?Sized, R: Rng + ?Sized>(
+        &self,
+        sut: &S,
+        rng: &mut R,
+        invalid: &mut usize,
+    ) -> Result<Vec<f32>, Error> {
+        for _ in 0..self.config.max_attempts {
+            let t = self.sample(rng);
+            if sut.is_valid(&t) {
+                return Ok(t);
+            }
+            *invalid += 1;
+        }
+        Err(Error::NoValidTest {
+            attempts: self.config.max_attempts,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha20Rng;
+
+    #[test]
+    fn stays_in_range_with_bounded_steps() {
+        let s = Sampler::new(7, SamplerConfig::default());
+        let mut rng = ChaCha20Rng::seed_from_u64(1);
+        let bound = 0.05 / 0.07 + 1e-6;
+        let mut hit_edge = false;
+        for _ in 0..5000 {
+            let t = s.sample(&mut rng);
+            assert_eq!(t.len(), 7);
+            for w in t.windows(2) {
+                assert!((w[1] - w[0]).abs() <= bound);
+            }
+            for v in &t {
+                assert!((-1.0..=1.0).contains(v));
+                hit_edge |= v.abs() == 1.0;
+            }
+        }
+        assert!(hit_edge, "clipping at the edges should occur");
+    }
+
+    struct Never;
+    impl Sut for Never {
+        type Output = ();
+        fn dim(&self) -> usize {
+            2
+        }
+        fn is_valid(&self, _: &[f32]) -> bool {
+            false
+        }
+        fn execute(&self, _: &[f32]) -> crate::Execution<()> {
+            unreachable!()
+        }
+    }
+
+    #[test]
+    fn gives_up_after_max_attempts() {
+        let s = Sampler::new(
+            2,
+            SamplerConfig {
+                max_attempts: 10,
+                ..SamplerConfig::default()
+            },
+        );
+        let mut rng = ChaCha20Rng::seed_from_u64(1);
+        let mut invalid = 0;
+        assert!(s.sample_valid(&Never, &mut rng, &mut invalid).is_err());
+        assert_eq!(invalid, 10);
+    }
+}

@@ -1,0 +1,34 @@
+//! The system under test as wogan-core sees it: a dimension, a validity predicate and an
+//! execution that yields a fitness plus whatever the SUT wants to report.
+
+/// What one execution of a test produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Execution<O> {
+    /// Fitness in `[0, 1]`, higher = closer to failure. Values outside are clamped (NaN counts as 0).
+    pub fitness: f64,
+    /// SUT-specific report, passed through to the caller untouched.
+    pub output: O,
+}
+
+/// A black-box system under test over normalised test vectors in `[-1, 1]^dim`.
+///
+/// `Sync` because the random phase may execute several tests at once (`jobs > 1`).
+pub trait Sut: Sync {
+    /// What an execution reports besides the fitness.
+    type Output: Send;
+    /// Length of a test vector.
+    fn dim(&self) -> usize;
+    /// Whether a test may be executed; invalid tests are never executed.
+    fn is_valid(&self, test: &[f32]) -> bool;
+    /// Executes a valid test.
+    fn execute(&self, test: &[f32]) -> Execution<Self::Output>;
+}
+
+/// Clamps a reported fitness into `[0, 1]`; NaN becomes 0 so it can never look like a failure.
+pub(crate) fn clamp_fitness(f: f64) -> f64 {
+    if f.is_nan() {
+        0.0
+    } else {
+        f.clamp(0.0, 1.0)
+    }
+}
