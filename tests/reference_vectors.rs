@@ -61,15 +61,22 @@ fn validator_agrees_with_the_competition() {
         if verdict.is_valid() == expected_valid {
             same_verdict += 1;
         } else {
-            eprintln!("verdict differs: {} ours {:?} reference {message:?}", record["kind"], verdict.reason);
+            eprintln!(
+                "verdict differs: {} ours {:?} reference {message:?}",
+                record["kind"], verdict.reason
+            );
         }
         if let (false, Some(ours)) = (expected_valid, verdict.reason) {
             both_invalid += 1;
-            let matches = message.starts_with("reference raised:") || reason_of_message(message) == Some(ours);
+            let matches = message.starts_with("reference raised:")
+                || reason_of_message(message) == Some(ours);
             if matches {
                 same_reason += 1;
             } else {
-                eprintln!("reason differs: {} ours {ours} reference {message:?}", record["kind"]);
+                eprintln!(
+                    "reason differs: {} ours {ours} reference {message:?}",
+                    record["kind"]
+                );
             }
         }
     }
@@ -84,14 +91,23 @@ fn interpolation_agrees_with_the_competition() {
     for record in records("spline.jsonl") {
         let road = Road::new(&points(&record["road_points"])).expect("reference roads interpolate");
         let expected = points(&record["interpolated_points"]);
-        assert_eq!(road.interpolated.len(), expected.len(), "{:?}", record["road_points"]);
+        assert_eq!(
+            road.interpolated.len(),
+            expected.len(),
+            "{:?}",
+            record["road_points"]
+        );
         let mut road_worst = 0.0f64;
         for (ours, theirs) in road.interpolated.iter().zip(&expected) {
-            road_worst = road_worst.max((ours[0] - theirs[0]).abs()).max((ours[1] - theirs[1]).abs());
+            road_worst = road_worst
+                .max((ours[0] - theirs[0]).abs())
+                .max((ours[1] - theirs[1]).abs());
         }
         if road_worst > 0.002 {
-
-            eprintln!("spline differs by {road_worst:.4} m: {}", record["road_points"]);
+            eprintln!(
+                "spline differs by {road_worst:.4} m: {}",
+                record["road_points"]
+            );
         }
         worst = worst.max(road_worst);
         roads += 1;
@@ -106,11 +122,15 @@ fn features_agree_with_the_competition() {
     for record in records("features.jsonl") {
         let road = Road::new(&points(&record["road_points"])).unwrap();
         let ours = features::RoadFeatures::of(&road.interpolated);
-        worst_curv = worst_curv.max((ours.max_curvature - record["MAX_CURV"].as_f64().unwrap()).abs());
-        worst_cov = worst_cov.max((ours.direction_coverage - record["DIR_COV"].as_f64().unwrap()).abs());
+        worst_curv =
+            worst_curv.max((ours.max_curvature - record["MAX_CURV"].as_f64().unwrap()).abs());
+        worst_cov =
+            worst_cov.max((ours.direction_coverage - record["DIR_COV"].as_f64().unwrap()).abs());
         count += 1;
     }
-    println!("features: {count} roads, MAX_CURV within {worst_curv:.2e}, DIR_COV within {worst_cov:.2e}");
+    println!(
+        "features: {count} roads, MAX_CURV within {worst_curv:.2e}, DIR_COV within {worst_cov:.2e}"
+    );
     assert!(worst_curv <= 1e-6 && worst_cov <= 1e-6);
 }
 
@@ -125,7 +145,8 @@ fn bolp_and_lane_distance_agree_with_the_competition() {
         worst_bolp = worst_bolp.max((ours - record["bolp"].as_f64().unwrap()).abs());
         let center = points(&Value::Array(vec![record["car_center"].clone()]))[0];
         let distance = bolp::oob_distance_right(center, &road.right_lane_centre());
-        worst_distance = worst_distance.max((distance - record["oob_distance_right"].as_f64().unwrap()).abs());
+        worst_distance =
+            worst_distance.max((distance - record["oob_distance_right"].as_f64().unwrap()).abs());
         count += 1;
     }
     println!("bolp: {count} cars, BOLP within {worst_bolp:.2e}, lane distance within {worst_distance:.2e} m");
@@ -136,14 +157,22 @@ fn bolp_and_lane_distance_agree_with_the_competition() {
 fn curvature_roads_agree_with_the_reference() {
     let (mut count, mut worst) = (0, 0.0f64);
     for record in records("roads.jsonl") {
-        let curvature: Vec<f64> = record["curvature"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+        let curvature: Vec<f64> = record["curvature"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
         let ours = CurvatureRoad::default().points(&curvature);
         let expected = points(&record["road_points"]);
         assert_eq!(ours.len(), expected.len());
         for (a, b) in ours.iter().zip(&expected) {
             worst = worst.max((a[0] - b[0]).abs()).max((a[1] - b[1]).abs());
         }
-        assert!(Validator::default().validate(&expected).is_valid(), "reference road judged invalid");
+        assert!(
+            Validator::default().validate(&expected).is_valid(),
+            "reference road judged invalid"
+        );
         count += 1;
     }
     println!("roads: {count} curvature roads, points within {worst:.2e} m, all valid");

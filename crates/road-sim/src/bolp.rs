@@ -27,7 +27,9 @@ pub fn intersection_area(subject: &[Point], convex: &[Point]) -> f64 {
     for i in 0..convex.len() {
         let (a, b) = (convex[i], convex[(i + 1) % convex.len()]);
         // Positive when p lies on the inner side of edge a→b.
-        let side = |p: Point| orientation * ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]));
+        let side = |p: Point| {
+            orientation * ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]))
+        };
         next.clear();
         for j in 0..current.len() {
             let (p, q) = (current[j], current[(j + 1) % current.len()]);
@@ -66,7 +68,10 @@ pub fn oob_distance_right(car_center: Point, right_lane_centre: &[Point]) -> f64
 
 /// BOLP of a car footprint on a road, using the whole right lane.
 pub fn road_bolp(road: &Road, car_corners: &[Point; 4]) -> f64 {
-    bolp(car_corners, &road.right_lane_polygon(0, road.interpolated.len() - 1))
+    bolp(
+        car_corners,
+        &road.right_lane_polygon(0, road.interpolated.len() - 1),
+    )
 }
 
 #[cfg(test)]
@@ -91,7 +96,16 @@ mod tests {
     #[test]
     fn concave_subject_is_clipped_correctly() {
         // A U shape: the 1 m gap between its arms is not part of it.
-        let u = [[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [2.0, 3.0], [2.0, 1.0], [1.0, 1.0], [1.0, 3.0], [0.0, 3.0]];
+        let u = [
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 3.0],
+            [2.0, 3.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 3.0],
+            [0.0, 3.0],
+        ];
         let clip = [[0.0, 2.0], [3.0, 2.0], [3.0, 3.0], [0.0, 3.0]];
         assert!((intersection_area(&u, &clip) - 2.0).abs() < 1e-12);
     }

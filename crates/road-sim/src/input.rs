@@ -62,7 +62,8 @@ fn bad(field: impl Into<String>, problem: impl Into<String>) -> InputError {
 
 /// Parses one line of input; `map_size_m` places curvature roads.
 pub fn parse_line(line: &str, map_size_m: f64) -> Result<RoadInput, InputError> {
-    let value: Value = serde_json::from_str(line).map_err(|e| InputError::NotJson(e.to_string()))?;
+    let value: Value =
+        serde_json::from_str(line).map_err(|e| InputError::NotJson(e.to_string()))?;
     parse_value(&value, map_size_m)
 }
 
@@ -98,17 +99,24 @@ pub fn parse_value(value: &Value, map_size_m: f64) -> Result<RoadInput, InputErr
 }
 
 fn numbers_of(value: &Value, field: &str) -> Result<Vec<f64>, InputError> {
-    let items = value.as_array().ok_or_else(|| bad(field, "expected an array of numbers"))?;
+    let items = value
+        .as_array()
+        .ok_or_else(|| bad(field, "expected an array of numbers"))?;
     items
         .iter()
         .enumerate()
-        .map(|(i, v)| v.as_f64().ok_or_else(|| bad(format!("{field}[{i}]"), "expected a number")))
+        .map(|(i, v)| {
+            v.as_f64()
+                .ok_or_else(|| bad(format!("{field}[{i}]"), "expected a number"))
+        })
         .collect()
 }
 
 /// Points as `[x, y]` (extra entries, like the competition's z and width, are ignored).
 fn points_of(value: &Value, field: &str) -> Result<Vec<Point>, InputError> {
-    let items = value.as_array().ok_or_else(|| bad(field, "expected an array of [x, y] points"))?;
+    let items = value
+        .as_array()
+        .ok_or_else(|| bad(field, "expected an array of [x, y] points"))?;
     items
         .iter()
         .enumerate()
@@ -130,22 +138,42 @@ mod tests {
     fn accepts_every_road_form() {
         let bare = parse_line("[[1, 2], [3, 4]]", 200.0).unwrap();
         assert_eq!(bare, RoadInput::Points(vec![[1.0, 2.0], [3.0, 4.0]]));
-        let competition = parse_line(r#"{"road_points": [[1, 2, -28, 8], [3, 4, -28, 8]]}"#, 200.0).unwrap();
+        let competition = parse_line(
+            r#"{"road_points": [[1, 2, -28, 8], [3, 4, -28, 8]]}"#,
+            200.0,
+        )
+        .unwrap();
         assert_eq!(competition, bare);
-        let record = parse_line(r#"{"type": "test", "id": 3, "road_points": [[1, 2], [3, 4]]}"#, 200.0).unwrap();
+        let record = parse_line(
+            r#"{"type": "test", "id": 3, "road_points": [[1, 2], [3, 4]]}"#,
+            200.0,
+        )
+        .unwrap();
         assert_eq!(record, bare);
         let curvature = parse_line(r#"{"curvature": [0, 0], "step": 10}"#, 100.0).unwrap();
-        assert_eq!(curvature.points().unwrap(), &[[50.0, 10.0], [50.0, 20.0], [50.0, 30.0]]);
-        assert_eq!(parse_line(r#"{"type": "summary"}"#, 200.0).unwrap(), RoadInput::Skip);
+        assert_eq!(
+            curvature.points().unwrap(),
+            &[[50.0, 10.0], [50.0, 20.0], [50.0, 30.0]]
+        );
+        assert_eq!(
+            parse_line(r#"{"type": "summary"}"#, 200.0).unwrap(),
+            RoadInput::Skip
+        );
     }
 
     #[test]
     fn errors_name_the_field() {
         let err = parse_line(r#"{"road_points": [[1, 2], [3, "x"]]}"#, 200.0).unwrap_err();
-        assert_eq!(err.to_string(), "road_points[1]: expected [x, y] with numbers");
+        assert_eq!(
+            err.to_string(),
+            "road_points[1]: expected [x, y] with numbers"
+        );
         let err = parse_line(r#"{"curvature": [0.1, null]}"#, 200.0).unwrap_err();
         assert_eq!(err.to_string(), "curvature[1]: expected a number");
-        assert!(matches!(parse_line("{nope", 200.0), Err(InputError::NotJson(_))));
+        assert!(matches!(
+            parse_line("{nope", 200.0),
+            Err(InputError::NotJson(_))
+        ));
         assert_eq!(parse_line(r#"{"a": 1}"#, 200.0), Err(InputError::NoRoad));
         assert_eq!(parse_line("42", 200.0), Err(InputError::NoRoad));
     }

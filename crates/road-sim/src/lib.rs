@@ -1,5 +1,5 @@
-//! The self-driving-car system under test: roads, the SBST competition's validator, and (later)
-//! the simulated car and its drivers.
+//! The self-driving-car system under test: roads, the SBST competition's validator, and the
+//! simulated car with its drivers.
 //!
 //! Data flows one way: road points (or curvature values, see [`curvature`]) are interpolated into
 //! a centre line ([`spline`]), which gives the road's edges, quads and lanes ([`road`]); the

@@ -46,7 +46,9 @@ impl Road {
             }
             left_normals.push([-dy / length, dx / length]);
         }
-        let last = *left_normals.last().expect("interpolation gives at least 21 points");
+        let last = *left_normals
+            .last()
+            .expect("interpolation gives at least 21 points");
         left_normals.push(last);
         Ok(Self {
             road_points: road_points.to_vec(),
@@ -102,7 +104,11 @@ impl Road {
     /// line, back along the right edge. The whole lane is `right_lane_polygon(0, len - 1)`.
     pub fn right_lane_polygon(&self, first: usize, last: usize) -> Vec<Point> {
         let mut polygon: Vec<Point> = self.interpolated[first..=last].to_vec();
-        polygon.extend((first..=last).rev().map(|i| self.offset_point(i, -ROAD_WIDTH_M / 2.0)));
+        polygon.extend(
+            (first..=last)
+                .rev()
+                .map(|i| self.offset_point(i, -ROAD_WIDTH_M / 2.0)),
+        );
         polygon
     }
 

@@ -45,7 +45,8 @@ pub fn distance(a: Point, b: Point) -> f64 {
 /// metre (at least [`MIN_SAMPLES`] intervals), coordinates rounded to 3 decimals.
 pub fn interpolate(points: &[Point]) -> Result<Vec<Point>, SplineError> {
     let curve = ParametricSpline::fit(points)?;
-    let intervals = ((polyline_length(points) / INTERPOLATION_DISTANCE_M) as usize).max(MIN_SAMPLES);
+    let intervals =
+        ((polyline_length(points) / INTERPOLATION_DISTANCE_M) as usize).max(MIN_SAMPLES);
     let step = 1.0 / intervals as f64;
     // numpy's arange(0, 1 + step, step) has ceil((stop - start) / step) elements, computed in
     // floating point; for some n this is n + 2 and the last sample lies past u = 1.
@@ -82,7 +83,10 @@ impl ParametricSpline {
         if points.len() < 2 {
             return Err(SplineError::TooFewPoints(points.len()));
         }
-        if let Some(i) = points.iter().position(|p| !p[0].is_finite() || !p[1].is_finite()) {
+        if let Some(i) = points
+            .iter()
+            .position(|p| !p[0].is_finite() || !p[1].is_finite())
+        {
             return Err(SplineError::NonFinite(i));
         }
         let mut knots = Vec::with_capacity(points.len());
@@ -180,7 +184,8 @@ fn axis_slopes(knots: &[f64], values: &[f64]) -> Vec<f64> {
             let span = ha + hb;
             sub[n - 1] = span;
             diag[n - 1] = ha;
-            rhs[n - 1] = (hb * hb * secants[n - 3] + (2.0 * span + hb) * ha * secants[n - 2]) / span;
+            rhs[n - 1] =
+                (hb * hb * secants[n - 3] + (2.0 * span + hb) * ha * secants[n - 2]) / span;
             solve_tridiagonal(&sub, &diag, &sup, rhs)
         }
     }
@@ -275,7 +280,14 @@ mod tests {
     #[test]
     fn not_a_knot_spline_has_one_cubic_over_each_pair_of_end_intervals() {
         // Uneven chords, so the end conditions are exercised asymmetrically.
-        let points = [[0.0, 0.0], [10.0, 3.0], [13.0, 9.0], [30.0, 4.0], [33.0, -8.0], [60.0, 0.0]];
+        let points = [
+            [0.0, 0.0],
+            [10.0, 3.0],
+            [13.0, 9.0],
+            [30.0, 4.0],
+            [33.0, -8.0],
+            [60.0, 0.0],
+        ];
         let curve = ParametricSpline::fit(&points).unwrap();
         for (knot, point) in curve.knots.iter().zip(&points) {
             let p = curve.eval(*knot);
@@ -286,12 +298,18 @@ mod tests {
         for (from, to) in [(0.0, curve.knots[2]), (curve.knots[3], 1.0)] {
             let h = (to - from) / 3.0;
             let samples: Vec<Point> = (0..4).map(|i| curve.eval(from + i as f64 * h)).collect();
-            let third = |a: usize| samples[3][a] - 3.0 * samples[2][a] + 3.0 * samples[1][a] - samples[0][a];
+            let third = |a: usize| {
+                samples[3][a] - 3.0 * samples[2][a] + 3.0 * samples[1][a] - samples[0][a]
+            };
             let h2 = h / 2.0;
             let half: Vec<Point> = (0..4).map(|i| curve.eval(from + i as f64 * h2)).collect();
-            let third_half = |a: usize| half[3][a] - 3.0 * half[2][a] + 3.0 * half[1][a] - half[0][a];
+            let third_half =
+                |a: usize| half[3][a] - 3.0 * half[2][a] + 3.0 * half[1][a] - half[0][a];
             for a in 0..2 {
-                assert!((third(a) - 8.0 * third_half(a)).abs() < 1e-6, "not one cubic on [{from}, {to}]");
+                assert!(
+                    (third(a) - 8.0 * third_half(a)).abs() < 1e-6,
+                    "not one cubic on [{from}, {to}]"
+                );
             }
         }
     }
@@ -306,7 +324,10 @@ mod tests {
             ParametricSpline::fit(&[[0.0, 0.0], [f64::NAN, 1.0]]).unwrap_err(),
             SplineError::NonFinite(1)
         );
-        assert_eq!(ParametricSpline::fit(&[[0.0, 0.0]]).unwrap_err(), SplineError::TooFewPoints(1));
+        assert_eq!(
+            ParametricSpline::fit(&[[0.0, 0.0]]).unwrap_err(),
+            SplineError::TooFewPoints(1)
+        );
     }
 
     #[test]

@@ -6,15 +6,17 @@
 //!
 //! The self-intersection rule looks at the road polygon's quads (one per centre-line segment):
 //! each must be simple, adjacent quads may meet only along their shared side, and other quads
-//! must not touch at all. parry's BVH finds the quad pairs whose boxes overlap, so the cost grows
-//! like `n log n` in the number of quads instead of the reference's pairwise `n²`.
+//! must not touch at all. A sort-and-sweep over the quads' boxes finds the pairs that can touch,
+//! and a separating-line test on the shared sides ("rungs") settles almost all of those, so the
+//! cost grows like `n log n` in the number of quads instead of the reference's pairwise `n²`.
+//! (For ~75 quads the sweep is twice as fast as building parry's BVH; parry's own segment
+//! intersection treats nearly parallel segments as collinear, so sides are tested with exact
+//! orientation signs here, and parry answers the point-in-polygon questions.)
 
 use crate::circle;
-use crate::road::{Road, RoadError};
+use crate::road::{Road, RoadError, ROAD_WIDTH_M};
 use crate::Point;
-use parry2d::bounding_volume::Aabb;
 use parry2d::math::Vector2;
-use parry2d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use parry2d::utils::point_in_poly2d;
 use serde::{Deserialize, Serialize};
 
@@ -133,6 +135,23 @@ impl Validator {
         if road_points.len() > MAX_ROAD_POINTS {
             return invalid(Reason::TooManyPoints, None);
         }
+        if road_points.iter().flatten().any(|v| !v.is_finite()) {
+            return invalid(Reason::Malformed, None);
+        }
+        if !(crate::spline::polyline_length(road_points) <= self.longest_possible_road_m()) {
+            // Too long to be valid, and too long to interpolate every metre: the spline is at
+            // least as long as the polyline through its points.
+            let off_map = road_points
+                .iter()
+                .flatten()
+                .any(|&v| v <= 0.0 || v >= self.map_size_m);
+            let reason = if off_map {
+                Reason::OutsideMap
+            } else {
+                Reason::SelfIntersecting
+            };
+            return invalid(reason, None);
+        }
         let road = match Road::new(road_points) {
             Ok(road) => road,
             Err(RoadError::Spline(_) | RoadError::DegenerateSegment(..)) => {
@@ -144,6 +163,13 @@ impl Validator {
             reason,
             road: Some(road),
         }
+    }
+
+    /// An upper bound on the centre-line length of a valid road: its polygon, a band of
+    /// [`ROAD_WIDTH_M`] without overlaps, would otherwise cover more than the map (twice over, for
+    /// slack), metres.
+    pub fn longest_possible_road_m(&self) -> f64 {
+        2.0 * self.map_size_m * self.map_size_m / ROAD_WIDTH_M
     }
 
     /// The first rule an interpolated road breaks, if any.
@@ -173,7 +199,11 @@ impl Validator {
 /// An all-straight road (infinite radius) counts as not sharp.
 pub fn is_too_sharp(interpolated: &[Point]) -> bool {
     let radius = circle::min_radius(interpolated);
-    let radius_ft = if radius.is_finite() { radius * FEET_PER_METRE } else { 0.0 };
+    let radius_ft = if radius.is_finite() {
+        radius * FEET_PER_METRE
+    } else {
+        0.0
+    };
     radius_ft > 0.0 && radius_ft < MIN_RADIUS_FT
 }
 
@@ -183,7 +213,12 @@ fn vector(p: Point) -> Vector2 {
 
 /// The four sides of a quad, as segments.
 fn sides(quad: &[Point; 4]) -> [(Point, Point); 4] {
-    [(quad[0], quad[1]), (quad[1], quad[2]), (quad[2], quad[3]), (quad[3], quad[0])]
+    [
+        (quad[0], quad[1]),
+        (quad[1], quad[2]),
+        (quad[2], quad[3]),
+        (quad[3], quad[0]),
+    ]
 }
 
 /// Twice the signed area of triangle `a b c`: positive when `c` is left of `a → b`.
@@ -193,7 +228,10 @@ fn orientation(a: Point, b: Point, c: Point) -> f64 {
 
 /// Whether `p`, known to be collinear with segment `s`, lies within its bounding box.
 fn within(s: (Point, Point), p: Point) -> bool {
-    p[0] >= s.0[0].min(s.1[0]) && p[0] <= s.0[0].max(s.1[0]) && p[1] >= s.0[1].min(s.1[1]) && p[1] <= s.0[1].max(s.1[1])
+    p[0] >= s.0[0].min(s.1[0])
+        && p[0] <= s.0[0].max(s.1[0])
+        && p[1] >= s.0[1].min(s.1[1])
+        && p[1] <= s.0[1].max(s.1[1])
 }
 
 /// Whether two closed segments share at least one point (crossing, touching or overlapping).
@@ -214,27 +252,88 @@ pub fn is_self_intersecting(quads: &[[Point; 4]]) -> bool {
     if quads.iter().any(|q| !is_simple_quad(q)) {
         return true;
     }
-    if quads.windows(2).any(|w| adjacent_quads_overlap(&w[0], &w[1])) {
+    if quads
+        .windows(2)
+        .any(|w| !rung_separates_adjacent(&w[0], &w[1]) && adjacent_quads_overlap(&w[0], &w[1]))
+    {
         return true;
     }
-    let boxes: Vec<Aabb> = quads
+    // Sort-and-sweep along x: only quads whose x-ranges overlap are compared further.
+    let ranges: Vec<(f64, f64, f64, f64)> = quads
         .iter()
-        .map(|q| Aabb::from_points(q.iter().map(|&p| vector(p))))
+        .map(|q| {
+            let (mut min_x, mut max_x) = (f64::INFINITY, f64::NEG_INFINITY);
+            let (mut min_y, mut max_y) = (f64::INFINITY, f64::NEG_INFINITY);
+            for p in q {
+                (min_x, max_x) = (min_x.min(p[0]), max_x.max(p[0]));
+                (min_y, max_y) = (min_y.min(p[1]), max_y.max(p[1]));
+            }
+            (min_x, max_x, min_y, max_y)
+        })
         .collect();
-    let tree = Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes);
-    let mut workspace = BvhWorkspace::default();
-    let mut touching = false;
-    tree.traverse_bvtt_single_tree::<false>(&mut workspace, &mut |a, b| {
-        let (a, b) = (a.min(b) as usize, a.max(b) as usize);
-        if !touching && b > a + 1 {
-            touching = quads_touch(&quads[a], &quads[b]);
+    let mut order: Vec<usize> = (0..quads.len()).collect();
+    order.sort_unstable_by(|&a, &b| ranges[a].0.total_cmp(&ranges[b].0));
+    for (k, &a) in order.iter().enumerate() {
+        for &b in &order[k + 1..] {
+            if ranges[b].0 > ranges[a].1 {
+                break;
+            }
+            let (first, second) = (a.min(b), a.max(b));
+            let y_overlap = ranges[b].2 <= ranges[a].3 && ranges[a].2 <= ranges[b].3;
+            if y_overlap
+                && second > first + 1
+                && !rung_separates(&quads[first], &quads[second])
+                && quads_touch(&quads[first], &quads[second])
+            {
+                return true;
+            }
         }
-    });
-    touching
+    }
+    false
+}
+
+/// Whether a quad is convex with its corners in strict turning order (which makes it simple).
+fn is_strictly_convex(quad: &[Point; 4]) -> bool {
+    let turns = [0, 1, 2, 3].map(|i| orientation(quad[i], quad[(i + 1) % 4], quad[(i + 2) % 4]));
+    turns.iter().all(|&t| t > 0.0) || turns.iter().all(|&t| t < 0.0)
+}
+
+/// Which side of the line `a → b` the point lies on: +1 left, -1 right, 0 on it.
+fn side(a: Point, b: Point, p: Point) -> f64 {
+    orientation(a, b, p).signum() * (orientation(a, b, p) != 0.0) as u8 as f64
+}
+
+/// Fast exact test for consecutive quads on a well-formed road: both convex, on opposite sides
+/// of their shared side's line, so they can only meet along that side.
+fn rung_separates_adjacent(a: &[Point; 4], b: &[Point; 4]) -> bool {
+    let (l, r) = (a[1], a[2]);
+    let behind = side(l, r, a[0]);
+    behind != 0.0
+        && side(l, r, a[3]) == behind
+        && side(l, r, b[1]) == -behind
+        && side(l, r, b[2]) == -behind
+        && is_strictly_convex(a)
+        && is_strictly_convex(b)
+}
+
+/// Fast exact test for quads `a` before `b` on the road: the line of `a`'s far side (or of `b`'s
+/// near side) has the other quad strictly beyond it, so the two cannot meet. Each quad lies in the
+/// hull of its corners, so corners on the near (closed) side keep the whole quad there.
+fn rung_separates(a: &[Point; 4], b: &[Point; 4]) -> bool {
+    let separated_by = |line: (Point, Point), own: [Point; 2], other: &[Point; 4]| {
+        let near = side(line.0, line.1, own[0]);
+        near != 0.0
+            && side(line.0, line.1, own[1]) == near
+            && other.iter().all(|&p| side(line.0, line.1, p) == -near)
+    };
+    separated_by((a[1], a[2]), [a[0], a[3]], b) || separated_by((b[0], b[3]), [b[1], b[2]], a)
 }
 
 /// A quad is simple when neither pair of opposite sides meets and it has an area.
 fn is_simple_quad(quad: &[Point; 4]) -> bool {
+    if is_strictly_convex(quad) {
+        return true;
+    }
     let s = sides(quad);
     !segments_touch(s[0], s[2])
         && !segments_touch(s[1], s[3])
@@ -270,23 +369,32 @@ fn adjacent_quads_overlap(a: &[Point; 4], b: &[Point; 4]) -> bool {
         }
     }
     let (a_poly, b_poly) = (a.map(vector), b.map(vector));
-    [b[1], b[2]].iter().any(|&p| point_in_poly2d(vector(p), &a_poly))
-        || [a[0], a[3]].iter().any(|&p| point_in_poly2d(vector(p), &b_poly))
+    [b[1], b[2]]
+        .iter()
+        .any(|&p| point_in_poly2d(vector(p), &a_poly))
+        || [a[0], a[3]]
+            .iter()
+            .any(|&p| point_in_poly2d(vector(p), &b_poly))
 }
 
 /// The endpoint two segments share, with each segment's other end.
 fn common_end(x: (Point, Point), y: (Point, Point)) -> Option<(Point, Point, Point)> {
-    [(x.0, x.1), (x.1, x.0)].into_iter().find_map(|(corner, x_far)| {
-        [(y.0, y.1), (y.1, y.0)]
-            .into_iter()
-            .find(|&(y_corner, _)| y_corner == corner)
-            .map(|(_, y_far)| (corner, x_far, y_far))
-    })
+    [(x.0, x.1), (x.1, x.0)]
+        .into_iter()
+        .find_map(|(corner, x_far)| {
+            [(y.0, y.1), (y.1, y.0)]
+                .into_iter()
+                .find(|&(y_corner, _)| y_corner == corner)
+                .map(|(_, y_far)| (corner, x_far, y_far))
+        })
 }
 
 /// Whether two sides leaving `corner` towards `x_far` and `y_far` lie on top of each other.
 fn folds_back(corner: Point, x_far: Point, y_far: Point) -> bool {
-    let (u, v) = ([x_far[0] - corner[0], x_far[1] - corner[1]], [y_far[0] - corner[0], y_far[1] - corner[1]]);
+    let (u, v) = (
+        [x_far[0] - corner[0], x_far[1] - corner[1]],
+        [y_far[0] - corner[0], y_far[1] - corner[1]],
+    );
     let cross = u[0] * v[1] - u[1] * v[0];
     let dot = u[0] * v[0] + u[1] * v[1];
     cross == 0.0 && dot > 0.0
@@ -304,11 +412,26 @@ mod tests {
     fn rules_in_order() {
         assert_eq!(reason(&[]), Some(Reason::NotEnoughPoints));
         assert_eq!(reason(&[[50.0, 50.0]]), Some(Reason::NotEnoughPoints));
-        assert_eq!(reason(&vec![[50.0, 50.0]; 501]), Some(Reason::TooManyPoints));
-        assert_eq!(reason(&[[50.0, 50.0], [f64::NAN, 60.0]]), Some(Reason::Malformed));
-        assert_eq!(reason(&[[50.0, 50.0], [50.0, 50.0], [60.0, 70.0]]), Some(Reason::Malformed));
-        assert_eq!(reason(&[[1.0, 10.0], [1.0, 50.0]]), Some(Reason::OutsideMap));
-        assert_eq!(reason(&[[100.0, 100.0], [100.0, 110.0]]), Some(Reason::TooShort));
+        assert_eq!(
+            reason(&vec![[50.0, 50.0]; 501]),
+            Some(Reason::TooManyPoints)
+        );
+        assert_eq!(
+            reason(&[[50.0, 50.0], [f64::NAN, 60.0]]),
+            Some(Reason::Malformed)
+        );
+        assert_eq!(
+            reason(&[[50.0, 50.0], [50.0, 50.0], [60.0, 70.0]]),
+            Some(Reason::Malformed)
+        );
+        assert_eq!(
+            reason(&[[1.0, 10.0], [1.0, 50.0]]),
+            Some(Reason::OutsideMap)
+        );
+        assert_eq!(
+            reason(&[[100.0, 100.0], [100.0, 110.0]]),
+            Some(Reason::TooShort)
+        );
         assert_eq!(reason(&[[50.0, 50.0], [10.0, 10.0]]), None);
     }
 
