@@ -2,6 +2,7 @@
 //!
 //! 1. at least 2 road points; 2. at most 500; 3. the road polygon strictly inside the map;
 //! 4. not self-intersecting; 5. centre line longer than 20 m; 6. not too sharp.
+//!
 //! Input no rule can judge (non-finite or repeated points) is `malformed`.
 //!
 //! The self-intersection rule looks at the road polygon's quads (one per centre-line segment):
@@ -138,7 +139,8 @@ impl Validator {
         if road_points.iter().flatten().any(|v| !v.is_finite()) {
             return invalid(Reason::Malformed, None);
         }
-        if !(crate::spline::polyline_length(road_points) <= self.longest_possible_road_m()) {
+        let length_m = crate::spline::polyline_length(road_points);
+        if length_m.is_nan() || length_m > self.longest_possible_road_m() {
             // Too long to be valid, and too long to interpolate every metre: the spline is at
             // least as long as the polyline through its points.
             let off_map = road_points
