@@ -5,6 +5,11 @@
 //! flushed as soon as known; progress and logs go to stderr.
 
 mod json_lines;
+mod road_lines;
+mod road_sut;
+mod run;
+mod sim_options;
+mod simulate;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -12,10 +17,13 @@ use std::process::ExitCode;
 
 /// Exit status when every input line was answered.
 const EXIT_OK: u8 = 0;
-/// Exit status when some input lines could not be read as roads (the others were answered).
+/// Exit status when some input lines could not be read as roads (the others were answered), or
+/// a run failed part-way.
 const EXIT_BAD_LINES: u8 = 1;
 /// Exit status for bad usage (options, unreadable input file).
 const EXIT_USAGE: u8 = 2;
+/// Exit status after Ctrl-C or SIGTERM (128 + SIGINT), once the summary is written.
+const EXIT_INTERRUPTED: u8 = 130;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -32,16 +40,23 @@ struct Cli {
 enum Command {
     /// Check roads against the SBST competition's validity rules.
     Validate(validate::ValidateArgs),
+    /// Drive a lane-keeping driver along roads and report how far it left its lane.
+    Simulate(simulate::SimulateArgs),
+    /// Search for roads on which the driver leaves its lane (WOGAN or random search).
+    Run(run::RunArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Validate(args) => validate::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
+        Command::Run(args) => run::run(&args),
     };
     match outcome {
         Ok(Status::AllRead) => ExitCode::from(EXIT_OK),
-        Ok(Status::SomeLinesBad) => ExitCode::from(EXIT_BAD_LINES),
+        Ok(Status::SomeLinesBad | Status::Failed) => ExitCode::from(EXIT_BAD_LINES),
+        Ok(Status::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
         Err(error) => {
             eprintln!("wogan: {error:#}");
             ExitCode::from(EXIT_USAGE)
@@ -56,4 +71,8 @@ pub enum Status {
     AllRead,
     /// Some input lines were not roads; they were reported as `error` records.
     SomeLinesBad,
+    /// The work failed part-way; what was computed was written, with the reason.
+    Failed,
+    /// Ctrl-C or SIGTERM ended the work early; what was computed was written.
+    Interrupted,
 }

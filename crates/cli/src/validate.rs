@@ -1,10 +1,10 @@
 //! `wogan validate`: the competition's verdict for every road of the input.
 
-use crate::json_lines::{numbered_lines, open_input, ErrorRecord, JsonLinesWriter};
+use crate::json_lines::{open_input, JsonLinesWriter};
+use crate::road_lines::answer_each_road;
 use crate::Status;
 use anyhow::Result;
 use clap::Args;
-use road_sim::input::{parse_line, RoadInput};
 use road_sim::{Point, Validator};
 use serde::Serialize;
 use std::path::PathBuf;
@@ -34,7 +34,7 @@ pub fn positive_metres(text: &str) -> Result<f64, String> {
 }
 
 #[derive(Debug, Serialize)]
-struct VerdictRecord<'a> {
+struct VerdictRecord {
     #[serde(rename = "type")]
     kind: &'static str,
     line: usize,
@@ -42,7 +42,7 @@ struct VerdictRecord<'a> {
     reason: Option<&'static str>,
     message: &'static str,
     #[serde(skip_serializing_if = "Option::is_none")]
-    interpolated_points: Option<&'a [Point]>,
+    interpolated_points: Option<Vec<Point>>,
 }
 
 /// Runs `wogan validate`.
@@ -50,34 +50,19 @@ pub fn run(args: &ValidateArgs) -> Result<Status> {
     let input = open_input(args.file.as_deref())?;
     let mut out = JsonLinesWriter::create(None)?;
     let validator = Validator::new(args.map_size);
-    let mut status = Status::AllRead;
-    for line in numbered_lines(input) {
-        let line = line?;
-        let parsed = line
-            .text
-            .and_then(|text| parse_line(&text, args.map_size).map_err(|e| e.to_string()));
-        let road = match parsed {
-            Ok(RoadInput::Skip) => continue,
-            Ok(road) => road,
-            Err(error) => {
-                status = Status::SomeLinesBad;
-                out.write(&ErrorRecord::new(line.number, &error))?;
-                continue;
-            }
-        };
+    answer_each_road(input, &mut out, args.map_size, None, |line, road| {
         let verdict = validator.validate(road.points().unwrap_or_default());
-        out.write(&VerdictRecord {
+        VerdictRecord {
             kind: "verdict",
-            line: line.number,
+            line,
             valid: verdict.is_valid(),
             reason: verdict.reason.map(|r| r.code()),
             message: verdict.message(),
             interpolated_points: if args.details {
-                verdict.road.as_ref().map(|r| r.interpolated.as_slice())
+                verdict.road.map(|r| r.interpolated)
             } else {
                 None
             },
-        })?;
-    }
-    Ok(status)
+        }
+    })
 }

@@ -6,20 +6,32 @@
 //! [`validator`] applies the competition's rules to them; [`bolp`] and [`features`] measure a car
 //! against the lane and the road's shape.
 
+pub mod beamng_ai;
 pub mod bolp;
 pub mod circle;
 pub mod curvature;
+pub mod driver;
 pub mod features;
+pub mod heading_profile;
 pub mod input;
+pub mod oracle;
+pub mod outcome;
 pub mod polyline;
 pub mod road;
+pub mod scenario;
+pub mod simulation;
 pub mod spline;
 pub mod validator;
+pub mod vehicle;
 
 /// A point on the map, metres: `[x, y]`, x east, y north.
 pub type Point = [f64; 2];
 
 pub use curvature::CurvatureRoad;
+pub use driver::{Driver, DriverKind, Observation};
 pub use features::RoadFeatures;
+pub use outcome::{Outcome, Sample, SimResult};
 pub use road::Road;
+pub use simulation::{simulate, simulate_kind, SimConfig};
 pub use validator::{Reason, Validator, Verdict};
+pub use vehicle::{CarState, Command, Vehicle, VehicleParams};

@@ -32,7 +32,9 @@ impl Sut for Synthetic {
 
 fn iteration(c: &mut Criterion) {
     let mut group = c.benchmark_group("wogan_iteration");
-    group.sample_size(20).measurement_time(Duration::from_secs(4));
+    group
+        .sample_size(20)
+        .measurement_time(Duration::from_secs(4));
     for &n in &[300usize, 3_000, 30_000, 100_000] {
         let mut rng = ChaCha20Rng::seed_from_u64(1);
         let sut = Synthetic;

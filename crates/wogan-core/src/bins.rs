@@ -11,7 +11,11 @@ use rand::{Rng, RngExt};
 
 /// Bin index of a fitness value (clamped to `[0, 1]`).
 pub fn bin_of(fitness: f64, bins: usize) -> usize {
-    let f = if fitness.is_nan() { 0.0 } else { fitness.clamp(0.0, 1.0) };
+    let f = if fitness.is_nan() {
+        0.0
+    } else {
+        fitness.clamp(0.0, 1.0)
+    };
     ((f * bins as f64) as usize).min(bins.saturating_sub(1))
 }
 
@@ -103,7 +107,10 @@ mod tests {
         assert_eq!(bin_of(f64::NAN, 10), 0);
         let w = bin_weights(10, 0.0);
         assert!(w.windows(2).all(|p| p[1] > p[0]), "higher bins weigh more");
-        assert!((w[0] + w[9] - 1.0).abs() < 1e-12, "symmetric around 0 at α = 0");
+        assert!(
+            (w[0] + w[9] - 1.0).abs() < 1e-12,
+            "symmetric around 0 at α = 0"
+        );
         let w3 = bin_weights(10, 3.0);
         assert!(w3[9] / w3[0] > w[9] / w[0], "the bias grows with α");
     }
@@ -137,6 +144,38 @@ mod tests {
             let b = biased_batch(&members, &[(100, 9)], 4, 0.0, &mut rng);
             assert_eq!(b.len(), 4);
             assert_eq!(b[0], 100);
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn batch_is_distinct_members_of_the_right_size(
+            sizes in proptest::collection::vec(0usize..80, 10),
+            size in 1usize..40,
+            alpha in 0.0f64..3.0,
+            seed in 0u64..1000,
+        ) {
+            let mut rng = ChaCha20Rng::seed_from_u64(seed);
+            let mut members = Vec::new();
+            let mut next = 0;
+            for n in sizes {
+                members.push((next..next + n).collect::<Vec<usize>>());
+                next += n;
+            }
+            let newest: Vec<(usize, usize)> = members
+                .iter()
+                .enumerate()
+                .rev()
+                .filter_map(|(k, m)| m.last().map(|i| (*i, k)))
+                .take(3)
+                .collect();
+            let b = biased_batch(&members, &newest, size, alpha, &mut rng);
+            proptest::prop_assert_eq!(b.len(), size.min(next));
+            let mut s = b.clone();
+            s.sort_unstable();
+            s.dedup();
+            proptest::prop_assert_eq!(s.len(), b.len());
+            proptest::prop_assert!(b.iter().all(|i| *i < next));
         }
     }
 

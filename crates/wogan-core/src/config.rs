@@ -85,9 +85,9 @@ pub struct WoganConfig {
     pub later_epochs: usize,
     /// Analyzer epochs per WGAN epoch in later training rounds.
     pub later_analyzer_epochs: usize,
-    /// Candidates drawn from the generator at a time.
+    /// Candidates generated and scored per network call (each valid one is a round).
     pub candidate_batch: usize,
-    /// Factor applied to the acceptance target after each round without acceptance.
+    /// Factor applied to the acceptance target per valid candidate.
     pub target_decay: f64,
     /// Invalid candidates in a row after which a random valid test is executed instead.
     pub max_invalid_streak: usize,
@@ -242,7 +242,10 @@ impl RunConfig {
             s.max_step.is_finite() && s.max_step >= 0.0,
             "sampler.max_step must be finite and non-negative",
         )?;
-        check(s.max_attempts >= 1, "sampler.max_attempts must be at least 1")?;
+        check(
+            s.max_attempts >= 1,
+            "sampler.max_attempts must be at least 1",
+        )?;
         let w = &self.wogan;
         check(
             (0.0..=1.0).contains(&w.init_fraction),
@@ -252,7 +255,10 @@ impl RunConfig {
         check(w.batch_size >= 1, "wogan.batch_size must be at least 1")?;
         check(w.alpha_max.is_finite(), "wogan.alpha_max must be finite")?;
         check(w.train_every >= 1, "wogan.train_every must be at least 1")?;
-        check(w.candidate_batch >= 1, "wogan.candidate_batch must be at least 1")?;
+        check(
+            w.candidate_batch >= 1,
+            "wogan.candidate_batch must be at least 1",
+        )?;
         check(
             w.target_decay > 0.0 && w.target_decay < 1.0,
             "wogan.target_decay must be in (0, 1)",
@@ -265,7 +271,10 @@ impl RunConfig {
             w.generator.noise_dim >= 1 && w.generator.hidden >= 1,
             "wogan.generator sizes must be at least 1",
         )?;
-        check(w.critic.hidden >= 1, "wogan.critic.hidden must be at least 1")?;
+        check(
+            w.critic.hidden >= 1,
+            "wogan.critic.hidden must be at least 1",
+        )?;
         check(
             w.critic.leaky_slope.is_finite(),
             "wogan.critic.leaky_slope must be finite",

@@ -24,7 +24,12 @@ pub struct Generator {
 
 impl Generator {
     /// A generator with weights drawn from `rng`.
-    pub fn new<R: Rng + ?Sized>(dim: usize, cfg: &GeneratorConfig, rng: &mut R, device: &Device) -> Self {
+    pub fn new<R: Rng + ?Sized>(
+        dim: usize,
+        cfg: &GeneratorConfig,
+        rng: &mut R,
+        device: &Device,
+    ) -> Self {
         Self {
             l1: linear(rng, cfg.noise_dim, cfg.hidden, device),
             bn1: BatchNormConfig::new(cfg.hidden).init(device),

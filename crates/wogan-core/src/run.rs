@@ -32,7 +32,10 @@ pub enum Phase {
 }
 
 /// Something that happened during a run, reported as soon as it is known.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Serialises as one JSON object tagged `"type": "test"` or `"type": "train"`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "type", rename_all = "lowercase")]
 pub enum Event<O> {
     /// A test was executed.
     Test {
@@ -212,9 +215,12 @@ pub fn run<S: Sut + ?Sized>(
         let mut since_train = usize::MAX;
         while !r.should_stop() {
             if since_train >= w.train_every {
-                let alpha =
-                    r.budget
-                        .alpha(w.init_fraction, w.alpha_max, r.summary.executed, r.elapsed());
+                let alpha = r.budget.alpha(
+                    w.init_fraction,
+                    w.alpha_max,
+                    r.summary.executed,
+                    r.elapsed(),
+                );
                 let t0 = Instant::now();
                 let stats = model.train(alpha, &mut rng)?;
                 let train_s = t0.elapsed().as_secs_f64();
@@ -334,6 +340,7 @@ mod tests {
         };
         let w = mean_tail(&wogan);
         let r = mean_tail(&random);
+        eprintln!("tail mean fitness: WOGAN {w} random {r}");
         assert!(w > r + 0.05, "WOGAN {w} vs random {r}");
     }
 
@@ -358,9 +365,92 @@ mod tests {
         assert_ne!(ta, tc);
         assert_eq!(ta.iter().filter(|t| t.1 == Phase::Random).count(), 15);
         assert_eq!(ta.iter().filter(|t| t.1 == Phase::Wogan).count(), 15);
-        let trains = a.iter().filter(|e| matches!(e, Event::Train { .. })).count();
+        let trains = a
+            .iter()
+            .filter(|e| matches!(e, Event::Train { .. }))
+            .count();
         assert_eq!(trains, 5, "retrain every 3 tests");
         assert_eq!(sa.executed, 30);
+        let invalid: usize = a
+            .iter()
+            .map(|e| match e {
+                Event::Test {
+                    invalid_candidates, ..
+                } => *invalid_candidates,
+                Event::Train { .. } => 0,
+            })
+            .sum();
+        assert_eq!(invalid, sa.invalid_candidates);
+        assert!(invalid > 0, "the half-space rejects some random walks");
+    }
+
+    #[test]
+    fn events_serialise_as_tagged_json() {
+        let budget = Budget {
+            max_tests: Some(12),
+            wall: None,
+        };
+        let (events, _) = collect(&RunConfig::default(), budget, 3);
+        let lines: Vec<String> = events
+            .iter()
+            .map(|e| serde_json::to_string(e).unwrap())
+            .collect();
+        assert!(lines[0].starts_with(r#"{"type":"test","id":1,"phase":"random""#));
+        assert!(lines.iter().any(|l| l.starts_with(r#"{"type":"train","#)));
+        assert!(lines.last().unwrap().contains(r#""phase":"wogan""#));
+    }
+
+    /// One-dimensional, always valid: the smallest case the networks must handle.
+    struct Line;
+    impl Sut for Line {
+        type Output = ();
+        fn dim(&self) -> usize {
+            1
+        }
+        fn is_valid(&self, _: &[f32]) -> bool {
+            true
+        }
+        fn execute(&self, t: &[f32]) -> Execution<()> {
+            Execution {
+                fitness: f64::from(t[0]) * 2.0, // partly outside [0, 1]: clamped
+                output: (),
+            }
+        }
+    }
+
+    #[test]
+    fn tiny_runs_work_at_the_edges_of_the_schedule() {
+        let stop = AtomicBool::new(false);
+        for init_fraction in [0.0, 1.0] {
+            let config = RunConfig {
+                wogan: crate::WoganConfig {
+                    init_fraction,
+                    ..Default::default()
+                },
+                ..RunConfig::default()
+            };
+            let budget = Budget {
+                max_tests: Some(5),
+                wall: None,
+            };
+            let mut phases = Vec::new();
+            let s = run(&Line, &config, budget, 1, &stop, &mut |e| {
+                if let Event::Test { phase, fitness, .. } = e {
+                    assert!((0.0..=1.0).contains(&fitness));
+                    phases.push(phase);
+                }
+            })
+            .unwrap();
+            assert_eq!(s.executed, 5);
+            let random = phases.iter().filter(|p| **p == Phase::Random).count();
+            assert_eq!(random, if init_fraction == 0.0 { 1 } else { 5 });
+        }
+        let zero = Budget {
+            max_tests: Some(0),
+            wall: None,
+        };
+        let s = run(&Line, &RunConfig::default(), zero, 1, &stop, &mut |_| {}).unwrap();
+        assert_eq!(s.executed, 0);
     }
 
     #[test]
@@ -373,7 +463,10 @@ mod tests {
             algorithm: Algorithm::Random,
             ..RunConfig::default()
         };
-        let parallel = RunConfig { jobs: 3, ..serial.clone() };
+        let parallel = RunConfig {
+            jobs: 3,
+            ..serial.clone()
+        };
         let (a, _) = collect(&serial, budget, 1);
         let (b, sb) = collect(&parallel, budget, 1);
         assert_eq!(tests_of(&a), tests_of(&b));

@@ -11,7 +11,7 @@ use crate::config::{CriticConfig, GeneratorConfig, WganConfig};
 use crate::critic::Critic;
 use crate::error::Error;
 use crate::generator::Generator;
-use crate::nn::{matrix, scalar, uniform_noise, values};
+use crate::nn::{matrix, scalar, uniform_noise};
 
 /// Losses of the last steps of one epoch.
 #[derive(Debug, Clone, Copy, Default)]
@@ -57,7 +57,11 @@ impl Wgan {
     }
 
     /// One epoch on `real: [m, d]`.
-    pub fn epoch<R: Rng + ?Sized>(&mut self, real: Tensor<2>, rng: &mut R) -> Result<WganLosses, Error> {
+    pub fn epoch<R: Rng + ?Sized>(
+        &mut self,
+        real: Tensor<2>,
+        rng: &mut R,
+    ) -> Result<WganLosses, Error> {
         let m = real.dims()[0];
         let mut losses = WganLosses::default();
         // Batch normalisation needs two rows; the fake batch matches the real one for the
@@ -78,19 +82,16 @@ impl Wgan {
             self.critic = self.opt_c.step(self.cfg.lr, critic, grads);
         }
         let noise = uniform_noise(rng, self.cfg.noise_batch, self.noise_dim, &self.device);
-        let loss = self.critic.forward(self.generator.forward(noise)).mean().neg();
+        let loss = self
+            .critic
+            .forward(self.generator.forward(noise))
+            .mean()
+            .neg();
         // Only the generator's parameters are stepped; the critic's gradients are dropped.
         let grads = GradientsParams::from_grads(loss.backward(), &self.generator);
         losses.generator = scalar(loss.detach())?;
         let generator = self.generator.clone();
         self.generator = self.opt_g.step(self.cfg.lr, generator, grads);
         Ok(losses)
-    }
-
-    /// `n` proposals, row-major, from the generator in inference mode.
-    pub fn sample<R: Rng + ?Sized>(&self, n: usize, rng: &mut R) -> Result<Vec<f32>, Error> {
-        let g = self.generator.valid();
-        let plain = self.device.clone().without_autodiff();
-        values(g.forward(uniform_noise(rng, n, self.noise_dim, &plain)))
     }
 }

@@ -1,0 +1,73 @@
+//! The loop shared by the commands that answer one record per input road: read numbered lines,
+//! parse each as a road, answer the roads (in parallel when asked), and write the answers in input
+//! order, each flushed as soon as its chunk is done.
+
+use crate::json_lines::{numbered_lines, ErrorRecord, JsonLinesWriter};
+use crate::Status;
+use anyhow::Result;
+use rayon::prelude::*;
+use road_sim::input::{parse_line, RoadInput};
+use serde::Serialize;
+use std::io::BufRead;
+
+/// Roads answered together before their answers are written: large enough to keep every thread
+/// busy, small enough that results stream.
+const CHUNK_LINES: usize = 64;
+
+/// Answers every road of `input` with `answer(line_number, road)`; a line that holds no road gets
+/// an `error` record and makes the status [`Status::SomeLinesBad`].
+pub fn answer_each_road<R, F>(
+    input: Box<dyn BufRead>,
+    out: &mut JsonLinesWriter,
+    map_size_m: f64,
+    pool: Option<&rayon::ThreadPool>,
+    answer: F,
+) -> Result<Status>
+where
+    R: Serialize + Send,
+    F: Fn(usize, &RoadInput) -> R + Sync,
+{
+    let mut status = Status::AllRead;
+    let mut lines = numbered_lines(input).peekable();
+    while lines.peek().is_some() {
+        let mut chunk = Vec::with_capacity(CHUNK_LINES);
+        for line in lines.by_ref().take(CHUNK_LINES) {
+            let line = line?;
+            let parsed = line
+                .text
+                .and_then(|text| parse_line(&text, map_size_m).map_err(|e| e.to_string()));
+            if !matches!(parsed, Ok(RoadInput::Skip)) {
+                chunk.push((line.number, parsed));
+            }
+        }
+        let run_one = |(number, parsed): &(usize, Result<RoadInput, String>)| {
+            parsed
+                .as_ref()
+                .map(|road| answer(*number, road))
+                .map_err(Clone::clone)
+        };
+        let answers: Vec<Result<R, String>> = match pool {
+            Some(pool) => pool.install(|| chunk.par_iter().map(run_one).collect()),
+            None => chunk.iter().map(run_one).collect(),
+        };
+        for ((number, _), answer) in chunk.iter().zip(answers) {
+            match answer {
+                Ok(record) => out.write(&record)?,
+                Err(error) => {
+                    status = Status::SomeLinesBad;
+                    out.write(&ErrorRecord::new(*number, &error))?;
+                }
+            }
+        }
+    }
+    Ok(status)
+}
+
+/// A thread pool of `jobs` threads, or `None` for one job (answers on this thread).
+pub fn thread_pool(jobs: usize) -> Result<Option<rayon::ThreadPool>> {
+    if jobs <= 1 {
+        return Ok(None);
+    }
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(jobs).build()?;
+    Ok(Some(pool))
+}

@@ -1,0 +1,104 @@
+//! The self-driving-car problem as a `wogan-core` system under test: a test vector in `[-1, 1]^d`
+//! is `d` curvature values scaled by the paper's bound, validity is the competition's validator,
+//! and executing a test drives the chosen driver along the road. This adapter is the one place
+//! that knows both the search and the roads.
+
+use road_sim::curvature::MAX_CURVATURE_PER_M;
+use road_sim::outcome::Outcome;
+use road_sim::{
+    simulate_kind, CurvatureRoad, DriverKind, Point, Road, SimConfig, SimResult, Validator,
+};
+use serde::{Deserialize, Serialize};
+use wogan_core::{Execution, Sut};
+
+/// Which simulator figure the search maximises.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum FitnessKind {
+    /// `min(1, max_bolp / oob_tolerance)`: 1 exactly when the drive fails.
+    Bolp,
+    /// The simulator's `fitness_distance`, informative even when BOLP stays 0.
+    Distance,
+}
+
+/// Roads from curvature vectors, judged by one driver.
+pub struct RoadSut {
+    /// How curvature values become road points.
+    pub roads: CurvatureRoad,
+    /// Number of curvature values per test.
+    pub curvature_points: usize,
+    /// The competition's rules.
+    pub validator: Validator,
+    /// The driver under test.
+    pub driver: DriverKind,
+    /// How drives are simulated and judged.
+    pub sim: SimConfig,
+    /// What the search maximises.
+    pub fitness: FitnessKind,
+}
+
+/// What executing one test produced.
+#[derive(Debug, Clone, Serialize)]
+pub struct RoadExecution {
+    /// Curvature values, 1/m.
+    pub curvature: Vec<f64>,
+    /// The road points they make.
+    pub road_points: Vec<Point>,
+    /// The interpolated centre line (not written: used for the diversity measure).
+    #[serde(skip)]
+    pub interpolated: Vec<Point>,
+    /// The simulator's report.
+    #[serde(flatten)]
+    pub result: SimResult,
+}
+
+impl RoadSut {
+    /// Curvature values (1/m) of a normalised test vector.
+    pub fn curvature(&self, test: &[f32]) -> Vec<f64> {
+        test.iter()
+            .map(|&v| f64::from(v) * MAX_CURVATURE_PER_M)
+            .collect()
+    }
+
+    /// The fitness of a drive, in `[0, 1]`.
+    pub fn fitness_of(&self, result: &SimResult) -> f64 {
+        match self.fitness {
+            FitnessKind::Bolp if self.sim.oob_tolerance > 0.0 => {
+                (result.max_bolp / self.sim.oob_tolerance).min(1.0)
+            }
+            FitnessKind::Bolp => f64::from(u8::from(result.outcome == Outcome::Fail)),
+            FitnessKind::Distance => result.fitness_distance,
+        }
+    }
+}
+
+impl Sut for RoadSut {
+    type Output = RoadExecution;
+
+    fn dim(&self) -> usize {
+        self.curvature_points
+    }
+
+    fn is_valid(&self, test: &[f32]) -> bool {
+        self.validator
+            .validate(&self.roads.points(&self.curvature(test)))
+            .is_valid()
+    }
+
+    fn execute(&self, test: &[f32]) -> Execution<RoadExecution> {
+        let curvature = self.curvature(test);
+        let road_points = self.roads.points(&curvature);
+        // The search only executes valid tests, whose points always interpolate.
+        let road = Road::new(&road_points).expect("a valid road interpolates");
+        let result = simulate_kind(&road, self.driver, &self.sim, false);
+        Execution {
+            fitness: self.fitness_of(&result),
+            output: RoadExecution {
+                curvature,
+                road_points,
+                interpolated: road.interpolated,
+                result,
+            },
+        }
+    }
+}

@@ -1,0 +1,59 @@
+//! Options that choose and configure the driver under test, shared by `simulate` and `run`.
+
+use crate::validate::positive_metres;
+use clap::Args;
+use road_sim::{DriverKind, SimConfig};
+
+/// The driver under test and how it is judged.
+#[derive(Debug, Clone, Args)]
+pub struct SimOptions {
+    /// The driver under test: beamng-ai-proxy.
+    #[arg(long, default_value = "beamng-ai-proxy", value_parser = parse_oracle)]
+    pub oracle: DriverKind,
+    /// The driver's speed limit, km/h [default: 70 for beamng-ai-proxy].
+    #[arg(long, value_parser = positive_kmh, allow_negative_numbers = true)]
+    pub speed_limit: Option<f64>,
+    /// A drive fails when its BOLP exceeds this [default: 0.85 for beamng-ai-proxy].
+    #[arg(long, value_parser = share, allow_negative_numbers = true)]
+    pub oob_tolerance: Option<f64>,
+    /// Side of the square map, metres.
+    #[arg(long, default_value_t = 200.0, value_parser = positive_metres, allow_negative_numbers = true)]
+    pub map_size: f64,
+}
+
+impl SimOptions {
+    /// The simulation settings these options ask for.
+    pub fn sim_config(&self) -> SimConfig {
+        let defaults = SimConfig::default();
+        SimConfig {
+            speed_limit_kmh: self.speed_limit.unwrap_or(defaults.speed_limit_kmh),
+            oob_tolerance: self
+                .oob_tolerance
+                .unwrap_or_else(|| self.oracle.default_oob_tolerance()),
+            ..defaults
+        }
+    }
+}
+
+fn parse_oracle(name: &str) -> Result<DriverKind, String> {
+    DriverKind::from_name(name).ok_or_else(|| {
+        let known: Vec<&str> = DriverKind::ALL.iter().map(|k| k.name()).collect();
+        format!("unknown oracle {name:?}; known: {}", known.join(", "))
+    })
+}
+
+fn positive_kmh(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 300.0 => Ok(v),
+        _ => Err(format!(
+            "expected a speed in km/h between 0 and 300, got {text:?}"
+        )),
+    }
+}
+
+fn share(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("expected a number between 0 and 1, got {text:?}")),
+    }
+}

@@ -1,0 +1,138 @@
+//! Calibration figures and speed of the simulator on the 300 random WOGAN roads of
+//! `tests/reference/roads.jsonl` (70 km/h, oob tolerance 0.85, `beamng-ai-proxy`).
+//!
+//! `cargo bench --release -p road-sim --bench simulate` first prints the calibration figures
+//! (failure rate, max BOLP and fitness deciles, the share of max BOLP below 0.05, local continuity,
+//! simulated seconds per wall second), then measures the wall time per road on one core.
+//!
+//! Environment: `ROAD_SIM_CONFIG` = a JSON `SimConfig` (fields may be left out) to try other
+//! settings; `ROAD_SIM_CALIBRATE_ONLY=1` skips the timing; `ROAD_SIM_LIST=1` lists every road's
+//! result; `ROAD_SIM_TRACE=i` prints the trace of road `i` (JSON lines) and stops.
+
+use criterion::Criterion;
+use road_sim::scenario::{calibrate, continuity, deciles, read_roads, CalibrationRoad};
+use road_sim::{simulate_kind, DriverKind, Road, SimConfig};
+use std::hint::black_box;
+
+fn reference_roads() -> Vec<CalibrationRoad> {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/reference/roads.jsonl"
+    );
+    let text = std::fs::read_to_string(path).expect("tests/reference/roads.jsonl");
+    read_roads(&text).expect("roads.jsonl lines")
+}
+
+fn config() -> SimConfig {
+    match std::env::var("ROAD_SIM_CONFIG") {
+        Ok(json) => serde_json::from_str(&json).expect("ROAD_SIM_CONFIG is a SimConfig"),
+        Err(_) => SimConfig::default(),
+    }
+}
+
+fn fmt(values: &[f64]) -> String {
+    let v: Vec<String> = values.iter().map(|x| format!("{x:.3}")).collect();
+    v.join(" ")
+}
+
+fn print_calibration(roads: &[CalibrationRoad], config: &SimConfig) {
+    let kind = DriverKind::BeamNgAiProxy;
+    let (c, results) = calibrate(roads, kind, config);
+    if std::env::var_os("ROAD_SIM_LIST").is_some() {
+        for (i, r) in results.iter().enumerate() {
+            if let Some(r) = r {
+                println!(
+                    "road {i:3} {:?} {:?} max_bolp {:.3} min_dist {:.2} t {:.1} MAX_CURV {:.4}",
+                    r.outcome,
+                    r.reason,
+                    r.max_bolp,
+                    r.min_lane_distance_m,
+                    r.sim_time_s,
+                    r.max_curv
+                );
+            }
+        }
+    }
+    println!(
+        "calibration on {} roads (speed limit {} km/h, oob tolerance {}):",
+        c.roads, config.speed_limit_kmh, config.oob_tolerance
+    );
+    println!(
+        "  failure rate            {:.1}% (errors {:.1}%)",
+        100.0 * c.failure_rate,
+        100.0 * c.error_rate
+    );
+    println!("  max BOLP deciles        {}", fmt(&c.max_bolp_deciles));
+    println!(
+        "  share max BOLP < 0.05   {:.1}%",
+        100.0 * c.share_bolp_below_0_05
+    );
+    println!(
+        "  fitness_distance deciles {}",
+        fmt(&c.fitness_distance_deciles)
+    );
+    println!(
+        "  simulated s / wall s    {:.0}",
+        c.sim_seconds_per_wall_second
+    );
+    println!("  median ms per road      {:.2}", c.median_ms_per_road);
+    // Continuity on the 30 roads of highest max BOLP below the tolerance and 30 spread roads.
+    let mut order: Vec<usize> = (0..roads.len()).collect();
+    order.sort_by(|&a, &b| {
+        let bolp = |i: usize| results[i].as_ref().map_or(0.0, |r| r.max_bolp);
+        bolp(b).total_cmp(&bolp(a))
+    });
+    let picked: Vec<CalibrationRoad> = order
+        .iter()
+        .step_by(10)
+        .map(|&i| roads[i].clone())
+        .collect();
+    let changes = continuity(&picked, kind, config, 0.001);
+    println!(
+        "  continuity: |change of max BOLP| when one curvature value moves by 0.001 ({} moves on {} roads): deciles {}",
+        changes.len(),
+        picked.len(),
+        fmt(&deciles(&changes))
+    );
+}
+
+fn main() {
+    let roads = reference_roads();
+    let config = config();
+    if let Some(i) = std::env::var("ROAD_SIM_TRACE")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        let road = Road::new(&roads[i].road_points).expect("a valid road");
+        let r = simulate_kind(&road, DriverKind::BeamNgAiProxy, &config, true);
+        for s in r.trace.iter().flatten() {
+            println!("{}", serde_json::to_string(s).expect("a sample"));
+        }
+        return;
+    }
+    print_calibration(&roads, &config);
+    if std::env::var_os("ROAD_SIM_CALIBRATE_ONLY").is_some() {
+        return;
+    }
+    let built: Vec<Road> = roads
+        .iter()
+        .filter_map(|r| Road::new(&r.road_points).ok())
+        .collect();
+    let mut criterion = Criterion::default().configure_from_args().sample_size(30);
+    let mut next = 0;
+    criterion.bench_function("simulate one roads.jsonl road (beamng-ai-proxy)", |b| {
+        b.iter(|| {
+            next = (next + 1) % built.len();
+            black_box(
+                simulate_kind(
+                    black_box(&built[next]),
+                    DriverKind::BeamNgAiProxy,
+                    &config,
+                    false,
+                )
+                .max_bolp,
+            )
+        })
+    });
+    criterion.final_summary();
+}

@@ -1,0 +1,233 @@
+//! The oracle: how far the car is out of its lane, measured at each sample.
+//!
+//! BOLP is computed exactly (polygon clipping, the same definition as [`crate::bolp`]) against a
+//! local window of the right-lane polygon around the car's projection on the centre line, with
+//! reusable buffers (no allocation per sample). Lane distances are the signed lateral offset of
+//! the car centre from the road's centre line (the lane's left edge) and from the right edge,
+//! measured along the centre line's normal at the car's projection.
+
+use crate::road::{Road, LANE_WIDTH_M, ROAD_WIDTH_M};
+use crate::vehicle::footprint;
+use crate::Point;
+
+/// Centre-line points on each side of the car's projection that make up the lane window
+/// (the car's half-diagonal is 2.5 m and points are about 1 m apart).
+const WINDOW_BEHIND: usize = 6;
+const WINDOW_AHEAD: usize = 7;
+
+/// One measurement of the car against its lane.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LaneMeasure {
+    /// Share of the footprint outside the right lane.
+    pub bolp: f64,
+    /// Signed offset of the car centre from the road's centre line, metres, positive left.
+    pub lateral_m: f64,
+    /// Distance to the lane's left edge, positive inside.
+    pub dist_left_m: f64,
+    /// Distance to the lane's right edge, positive inside.
+    pub dist_right_m: f64,
+    /// The competition's `oob_distance`: 2 m minus the distance to the right lane's centre.
+    pub oob_distance_m: f64,
+    /// Segment of the centre line the car projects on.
+    pub segment: usize,
+}
+
+/// Measures a car against the right lane of one road.
+#[derive(Debug, Clone)]
+pub struct LaneMonitor {
+    centre: Vec<Point>,
+    right_edge: Vec<Point>,
+    segment: usize,
+    polygon: Vec<Point>,
+    clip_a: Vec<Point>,
+    clip_b: Vec<Point>,
+}
+
+impl LaneMonitor {
+    /// A monitor for `road`, the car starting near its first point.
+    pub fn new(road: &Road) -> Self {
+        let window = WINDOW_BEHIND + WINDOW_AHEAD + 1;
+        Self {
+            centre: road.interpolated.clone(),
+            right_edge: road.offset_line(-ROAD_WIDTH_M / 2.0),
+            segment: 0,
+            polygon: Vec::with_capacity(2 * window),
+            clip_a: Vec::with_capacity(4 * window),
+            clip_b: Vec::with_capacity(4 * window),
+        }
+    }
+
+    /// The car with body `length_m` x `width_m` at `center` heading `heading_rad` against the lane.
+    pub fn measure(
+        &mut self,
+        center: Point,
+        heading_rad: f64,
+        length_m: f64,
+        width_m: f64,
+    ) -> LaneMeasure {
+        let (segment, lateral) = self.project(center);
+        let n = self.centre.len();
+        let first = segment.saturating_sub(WINDOW_BEHIND);
+        let last = (segment + 1 + WINDOW_AHEAD).min(n - 1);
+        self.polygon.clear();
+        self.polygon.extend_from_slice(&self.centre[first..=last]);
+        self.polygon
+            .extend(self.right_edge[first..=last].iter().rev());
+        let corners = footprint(center, heading_rad, length_m, width_m);
+        let bolp = bolp_buffered(&corners, &self.polygon, &mut self.clip_a, &mut self.clip_b);
+        LaneMeasure {
+            bolp,
+            lateral_m: lateral,
+            dist_left_m: -lateral,
+            dist_right_m: lateral + ROAD_WIDTH_M / 2.0,
+            oob_distance_m: LANE_WIDTH_M / 2.0 - (lateral + LANE_WIDTH_M / 2.0).abs(),
+            segment,
+        }
+    }
+
+    /// The segment the car projects on (searched near the last one) and the signed lateral
+    /// offset from the centre line.
+    fn project(&mut self, p: Point) -> (usize, f64) {
+        let segments = self.centre.len() - 1;
+        let first = self.segment.saturating_sub(4);
+        let end = (self.segment + 30).min(segments);
+        let mut best = (f64::INFINITY, self.segment, 0.0);
+        for i in first..end {
+            let (a, b) = (self.centre[i], self.centre[i + 1]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let len_sq = dx * dx + dy * dy;
+            let t = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len_sq).clamp(0.0, 1.0);
+            let (ex, ey) = (p[0] - a[0] - t * dx, p[1] - a[1] - t * dy);
+            let d = ex.hypot(ey);
+            if d < best.0 {
+                let lateral = (dx * (p[1] - a[1]) - dy * (p[0] - a[0])) / len_sq.sqrt();
+                best = (d, i, lateral);
+            }
+        }
+        self.segment = best.1;
+        (best.1, best.2)
+    }
+}
+
+fn signed_area(polygon: &[Point]) -> f64 {
+    let n = polygon.len();
+    let mut sum = 0.0;
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        sum += a[0] * b[1] - b[0] * a[1];
+    }
+    sum / 2.0
+}
+
+/// BOLP of a convex car footprint against a (possibly concave) lane polygon: the lane is
+/// clipped by each edge of the footprint (Sutherland–Hodgman), in the two buffers.
+pub fn bolp_buffered(
+    car: &[Point; 4],
+    lane: &[Point],
+    a: &mut Vec<Point>,
+    b: &mut Vec<Point>,
+) -> f64 {
+    let car_area = signed_area(car);
+    if car_area == 0.0 {
+        return 0.0;
+    }
+    let orientation = car_area.signum();
+    a.clear();
+    a.extend_from_slice(lane);
+    for i in 0..4 {
+        let (p0, p1) = (car[i], car[(i + 1) % 4]);
+        let side = |p: Point| {
+            orientation * ((p1[0] - p0[0]) * (p[1] - p0[1]) - (p1[1] - p0[1]) * (p[0] - p0[0]))
+        };
+        b.clear();
+        let m = a.len();
+        for j in 0..m {
+            let (p, q) = (a[j], a[(j + 1) % m]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                b.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                let t = sp / (sp - sq);
+                b.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
+            }
+        }
+        std::mem::swap(a, b);
+        if a.is_empty() {
+            return 1.0;
+        }
+    }
+    (1.0 - signed_area(a).abs() / car_area.abs()).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bolp;
+
+    fn curved_road() -> Road {
+        Road::new(&[
+            [100.0, 10.0],
+            [100.0, 30.0],
+            [90.0, 50.0],
+            [70.0, 60.0],
+            [50.0, 62.0],
+        ])
+        .unwrap()
+    }
+
+    #[test]
+    fn windowed_bolp_equals_whole_lane_bolp() {
+        let road = curved_road();
+        let lane = road.right_lane_polygon(0, road.interpolated.len() - 1);
+        let mut monitor = LaneMonitor::new(&road);
+        // Walk along the road at several lateral offsets and headings.
+        for i in (3..road.interpolated.len() - 8).step_by(3) {
+            for (offset, dh) in [
+                (-2.0, 0.0),
+                (-0.5, 0.3),
+                (0.3, -0.2),
+                (-3.5, 0.1),
+                (1.5, 0.0),
+            ] {
+                let p = road.offset_point(i, offset);
+                let n = road.left_normals[i];
+                let heading = (-n[0]).atan2(n[1]) + dh;
+                let m = monitor.measure(p, heading, 4.6, 1.9);
+                let corners = footprint(p, heading, 4.6, 1.9);
+                let reference = bolp::bolp(&corners, &lane);
+                assert!(
+                    (m.bolp - reference).abs() < 1e-9,
+                    "i {i} offset {offset}: {} vs {reference}",
+                    m.bolp
+                );
+                assert!(
+                    (m.lateral_m - offset).abs() < 0.05,
+                    "lateral {} vs {offset}",
+                    m.lateral_m
+                );
+                let oob = bolp::oob_distance_right(p, &road.right_lane_centre());
+                assert!(
+                    (m.oob_distance_m - oob).abs() < 0.05,
+                    "oob {} vs {oob}",
+                    m.oob_distance_m
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn distances_are_positive_inside() {
+        let road = curved_road();
+        let mut monitor = LaneMonitor::new(&road);
+        let n = road.left_normals[5];
+        let heading = (-n[0]).atan2(n[1]);
+        let m = monitor.measure(road.offset_point(5, -1.0), heading, 4.6, 1.9);
+        assert!(
+            (m.dist_left_m - 1.0).abs() < 1e-2 && (m.dist_right_m - 3.0).abs() < 1e-2,
+            "{m:?}"
+        );
+        assert_eq!(m.bolp, 0.0);
+        assert!((m.oob_distance_m - 1.0).abs() < 1e-2);
+    }
+}

@@ -1,0 +1,156 @@
+//! End-to-end tests of `wogan run`.
+
+use road_sim::Validator;
+use serde_json::Value;
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+
+fn run(args: &[&str]) -> (Option<i32>, Vec<Value>) {
+    let output = Command::new(env!("CARGO_BIN_EXE_wogan"))
+        .arg("run")
+        .args(args)
+        .output()
+        .expect("wogan starts");
+    let records = String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("every output line is JSON"))
+        .collect();
+    (output.status.code(), records)
+}
+
+fn of_type<'a>(records: &'a [Value], kind: &str) -> Vec<&'a Value> {
+    records.iter().filter(|r| r["type"] == kind).collect()
+}
+
+/// The parts of a test record that must not depend on timing.
+fn deterministic_part(test: &Value) -> Value {
+    let mut test = test.clone();
+    for timing in ["generation_ms", "execution_ms"] {
+        test.as_object_mut().unwrap().remove(timing);
+    }
+    test
+}
+
+fn check_run(algorithm: &str) {
+    let (code, records) = run(&[
+        "--algorithm",
+        algorithm,
+        "--max-tests",
+        "30",
+        "--seed",
+        "11",
+    ]);
+    assert_eq!(code, Some(0));
+    assert_eq!(records[0]["type"], "header");
+    assert_eq!(records[0]["algorithm"], algorithm);
+    assert_eq!(records[0]["seed"], 11);
+    let tests = of_type(&records, "test");
+    assert_eq!(tests.len(), 30);
+    let validator = Validator::default();
+    for (i, test) in tests.iter().enumerate() {
+        assert_eq!(test["id"], i + 1);
+        let points: Vec<[f64; 2]> = serde_json::from_value(test["road_points"].clone()).unwrap();
+        assert!(
+            validator.validate(&points).is_valid(),
+            "test {} is invalid",
+            i + 1
+        );
+        let fitness = test["fitness"].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&fitness));
+        assert!(["PASS", "FAIL", "ERROR"].contains(&test["outcome"].as_str().unwrap()));
+    }
+    let summary = records.last().unwrap();
+    assert_eq!(summary["type"], "summary");
+    assert_eq!(summary["executed"], 30);
+    let failed = tests.iter().filter(|t| t["outcome"] == "FAIL").count();
+    assert_eq!(summary["failed"], failed);
+
+    let (_, again) = run(&[
+        "--algorithm",
+        algorithm,
+        "--max-tests",
+        "30",
+        "--seed",
+        "11",
+    ]);
+    let again = of_type(&again, "test");
+    for (a, b) in tests.iter().zip(&again) {
+        assert_eq!(
+            deterministic_part(a),
+            deterministic_part(b),
+            "same seed, same tests"
+        );
+    }
+}
+
+#[test]
+fn wogan_run_of_30_tests() {
+    check_run("wogan");
+}
+
+#[test]
+fn random_run_of_30_tests() {
+    check_run("random");
+}
+
+#[test]
+fn wogan_phases_and_training_records() {
+    let (_, records) = run(&["--max-tests", "30", "--seed", "2"]);
+    let tests = of_type(&records, "test");
+    // 20% of 30 tests are random, the rest are WOGAN's.
+    assert!(tests[..6].iter().all(|t| t["phase"] == "random"));
+    assert!(tests[6..].iter().all(|t| t["phase"] == "wogan"));
+    assert!(!of_type(&records, "train").is_empty());
+}
+
+#[test]
+fn sigint_writes_a_summary_and_exits_130() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_wogan"))
+        .args([
+            "run",
+            "--algorithm",
+            "random",
+            "--max-tests",
+            "1000000",
+            "--seed",
+            "1",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("wogan starts");
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    // Wait until tests are being executed, then interrupt.
+    for _ in 0..3 {
+        lines.next().expect("a line").expect("text");
+    }
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let rest: Vec<Value> = lines
+        .map(|l| serde_json::from_str(&l.unwrap()).unwrap())
+        .collect();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    let summary = rest.last().expect("a summary line");
+    assert_eq!(summary["type"], "summary");
+    assert_eq!(summary["interrupted"], true);
+    assert!(summary["executed"].as_u64().unwrap() >= 2);
+}
+
+#[test]
+fn bad_options_exit_2() {
+    for args in [
+        &["--algorithm", "annealing"][..],
+        &["--budget", "soon"],
+        &["--oracle", "nobody"],
+        &["--oob-tolerance", "1.5"],
+        &["--max-tests", "0"],
+    ] {
+        let (code, records) = run(args);
+        assert_eq!(code, Some(2), "{args:?}");
+        assert!(records.is_empty());
+    }
+}

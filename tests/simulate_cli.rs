@@ -1,0 +1,104 @@
+//! End-to-end tests of `wogan simulate`.
+
+use serde_json::Value;
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+fn wogan(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_wogan"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("wogan starts");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(stdin.as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
+fn records(output: &Output) -> Vec<Value> {
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("every output line is JSON"))
+        .collect()
+}
+
+fn reference_roads(count: usize) -> String {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/reference/roads.jsonl"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines().take(count).collect::<Vec<_>>().join("\n")
+}
+
+fn without_timing(mut record: Value) -> Value {
+    record.as_object_mut().unwrap().remove("execution_ms");
+    record
+}
+
+#[test]
+fn results_are_identical_with_any_number_of_jobs() {
+    let roads = reference_roads(40);
+    let one = records(&wogan(&["simulate"], &roads));
+    let two = records(&wogan(&["simulate", "--jobs", "2"], &roads));
+    assert_eq!(one.len(), 40);
+    for (i, (a, b)) in one.iter().zip(&two).enumerate() {
+        assert_eq!(a["line"], i + 1);
+        assert_eq!(without_timing(a.clone()), without_timing(b.clone()));
+        for field in [
+            "max_bolp",
+            "min_lane_distance_m",
+            "fitness_distance",
+            "sim_time_s",
+            "MAX_CURV",
+            "DIR_COV",
+            "STD_SA",
+            "MEAN_LP",
+            "MAX_LP",
+        ] {
+            assert!(a[field].is_number(), "line {} lacks {field}", i + 1);
+        }
+    }
+}
+
+#[test]
+fn invalid_roads_are_not_driven_and_bad_lines_reported() {
+    let input = "[[1, 10], [1, 50]]\nnot json\n{\"curvature\": [0, 0, 0]}";
+    let output = wogan(&["simulate"], input);
+    assert_eq!(output.status.code(), Some(1));
+    let records = records(&output);
+    assert_eq!(records[0]["outcome"], "INVALID");
+    assert_eq!(records[0]["reason"], "outside_map");
+    assert_eq!(records[1]["type"], "error");
+    assert_eq!(records[1]["line"], 2);
+    assert_eq!(records[2]["outcome"], "PASS");
+}
+
+#[test]
+fn trace_files_hold_the_road_and_the_samples() {
+    let dir = std::env::temp_dir().join(format!("wogan-trace-{}", std::process::id()));
+    let roads = reference_roads(2);
+    let output = wogan(&["simulate", "--trace", dir.to_str().unwrap()], &roads);
+    assert_eq!(output.status.code(), Some(0));
+    let text = std::fs::read_to_string(dir.join("trace.2.jsonl")).expect("trace of line 2");
+    let lines: Vec<Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines[0]["type"], "road");
+    assert!(lines[0]["interpolated_points"].as_array().unwrap().len() > 60);
+    let samples = &lines[1..];
+    assert!(samples.len() > 100, "20 Hz or more over several seconds");
+    assert!(samples
+        .iter()
+        .all(|s| s["type"] == "sample" && s["speed_kmh"].is_number() && s["bolp"].is_number()));
+    let times: Vec<f64> = samples.iter().map(|s| s["t"].as_f64().unwrap()).collect();
+    assert!(times.windows(2).all(|w| w[1] > w[0]));
+    std::fs::remove_dir_all(&dir).ok();
+}
