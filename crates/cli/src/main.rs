@@ -44,6 +44,8 @@ enum Command {
     Simulate(simulate::SimulateArgs),
     /// Search for roads on which the driver leaves its lane (WOGAN or random search).
     Run(run::RunArgs),
+    /// Write a Markdown report with SVG pictures of runs, or a picture of one simulation trace.
+    /// Write a run in the SBST competition's result layout.
 }
 
 fn main() -> ExitCode {

@@ -14,6 +14,7 @@
 //! each corner. A proportional controller turns the speed error into throttle or brake.
 
 use crate::driver::{Driver, Observation};
+use crate::polyline;
 use crate::road::Road;
 use crate::vehicle::{Command, VehicleParams};
 use crate::Point;
@@ -108,25 +109,13 @@ impl BeamNgAiProxy {
         &self.plan_mps
     }
 
-    /// Arc length and the car's projection segment on the lane centre.
+    /// Arc length of the car's projection on the lane centre (searched near the last one).
     fn locate(&mut self, position: Point) -> f64 {
-        let last = self.lane.len() - 1;
-        let first = self.segment.saturating_sub(3);
-        let end = (self.segment + 25).min(last);
-        let mut best = (f64::INFINITY, self.segment, 0.0);
-        for i in first..end {
-            let (a, b) = (self.lane[i], self.lane[i + 1]);
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            let len_sq = dx * dx + dy * dy;
-            let t =
-                (((position[0] - a[0]) * dx + (position[1] - a[1]) * dy) / len_sq).clamp(0.0, 1.0);
-            let d = (a[0] + t * dx - position[0]).hypot(a[1] + t * dy - position[1]);
-            if d < best.0 {
-                best = (d, i, t);
-            }
-        }
-        self.segment = best.1;
-        self.arc_m[best.1] + best.2 * (self.arc_m[best.1 + 1] - self.arc_m[best.1])
+        let window = (self.segment.saturating_sub(3), self.segment + 25);
+        let projection = polyline::project(position, &self.lane, Some(window));
+        self.segment = projection.segment;
+        let i = projection.segment;
+        self.arc_m[i] + projection.along * (self.arc_m[i + 1] - self.arc_m[i])
     }
 
     /// The point at arc length `s` on the lane centre (extrapolated past the ends), and the index

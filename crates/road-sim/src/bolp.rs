@@ -16,14 +16,31 @@ pub fn signed_area(polygon: &[Point]) -> f64 {
         / 2.0
 }
 
+/// Scratch space for clipping, reused so that a simulation allocates nothing per sample.
+#[derive(Debug, Clone, Default)]
+pub struct ClipBuffers {
+    current: Vec<Point>,
+    next: Vec<Point>,
+}
+
 /// Area of the intersection of a simple polygon with a convex polygon, square metres.
+pub fn intersection_area(subject: &[Point], convex: &[Point]) -> f64 {
+    intersection_area_with(subject, convex, &mut ClipBuffers::default())
+}
+
+/// [`intersection_area`] in reusable buffers.
 ///
 /// Sutherland–Hodgman clipping of `subject` by each edge of `convex`: correct for a concave
 /// subject (the result may hold zero-width bridges, which add no area).
-pub fn intersection_area(subject: &[Point], convex: &[Point]) -> f64 {
+pub fn intersection_area_with(
+    subject: &[Point],
+    convex: &[Point],
+    buffers: &mut ClipBuffers,
+) -> f64 {
     let orientation = signed_area(convex).signum();
-    let mut current: Vec<Point> = subject.to_vec();
-    let mut next = Vec::with_capacity(subject.len() + 8);
+    let ClipBuffers { current, next } = buffers;
+    current.clear();
+    current.extend_from_slice(subject);
     for i in 0..convex.len() {
         let (a, b) = (convex[i], convex[(i + 1) % convex.len()]);
         // Positive when p lies on the inner side of edge a→b.
@@ -42,22 +59,27 @@ pub fn intersection_area(subject: &[Point], convex: &[Point]) -> f64 {
                 next.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
             }
         }
-        std::mem::swap(&mut current, &mut next);
+        std::mem::swap(current, next);
         if current.is_empty() {
             return 0.0;
         }
     }
-    signed_area(&current).abs()
+    signed_area(current).abs()
 }
 
 /// BOLP of a car footprint (a convex quadrilateral) against a right-lane polygon:
 /// `1 - area(car ∩ lane) / area(car)`, in `[0, 1]`.
 pub fn bolp(car_corners: &[Point; 4], right_lane: &[Point]) -> f64 {
+    bolp_with(car_corners, right_lane, &mut ClipBuffers::default())
+}
+
+/// [`bolp`] in reusable buffers.
+pub fn bolp_with(car_corners: &[Point; 4], right_lane: &[Point], buffers: &mut ClipBuffers) -> f64 {
     let car_area = signed_area(car_corners).abs();
     if car_area == 0.0 {
         return 0.0;
     }
-    (1.0 - intersection_area(right_lane, car_corners) / car_area).clamp(0.0, 1.0)
+    (1.0 - intersection_area_with(right_lane, car_corners, buffers) / car_area).clamp(0.0, 1.0)
 }
 
 /// The competition's `oob_distance` towards the right lane: half the lane width minus the distance

@@ -6,6 +6,8 @@
 //! the car centre from the road's centre line (the lane's left edge) and from the right edge,
 //! measured along the centre line's normal at the car's projection.
 
+use crate::bolp::{self, ClipBuffers};
+use crate::polyline;
 use crate::road::{Road, LANE_WIDTH_M, ROAD_WIDTH_M};
 use crate::vehicle::footprint;
 use crate::Point;
@@ -39,8 +41,8 @@ pub struct LaneMonitor {
     right_edge: Vec<Point>,
     segment: usize,
     polygon: Vec<Point>,
-    clip_a: Vec<Point>,
-    clip_b: Vec<Point>,
+    /// Scratch space for the BOLP clipping.
+    clip: ClipBuffers,
 }
 
 impl LaneMonitor {
@@ -52,8 +54,7 @@ impl LaneMonitor {
             right_edge: road.offset_line(-ROAD_WIDTH_M / 2.0),
             segment: 0,
             polygon: Vec::with_capacity(2 * window),
-            clip_a: Vec::with_capacity(4 * window),
-            clip_b: Vec::with_capacity(4 * window),
+            clip: ClipBuffers::default(),
         }
     }
 
@@ -74,7 +75,7 @@ impl LaneMonitor {
         self.polygon
             .extend(self.right_edge[first..=last].iter().rev());
         let corners = footprint(center, heading_rad, length_m, width_m);
-        let bolp = bolp_buffered(&corners, &self.polygon, &mut self.clip_a, &mut self.clip_b);
+        let bolp = bolp::bolp_with(&corners, &self.polygon, &mut self.clip);
         LaneMeasure {
             bolp,
             lateral_m: lateral,
@@ -88,76 +89,11 @@ impl LaneMonitor {
     /// The segment the car projects on (searched near the last one) and the signed lateral
     /// offset from the centre line.
     fn project(&mut self, p: Point) -> (usize, f64) {
-        let segments = self.centre.len() - 1;
-        let first = self.segment.saturating_sub(4);
-        let end = (self.segment + 30).min(segments);
-        let mut best = (f64::INFINITY, self.segment, 0.0);
-        for i in first..end {
-            let (a, b) = (self.centre[i], self.centre[i + 1]);
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            let len_sq = dx * dx + dy * dy;
-            let t = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len_sq).clamp(0.0, 1.0);
-            let (ex, ey) = (p[0] - a[0] - t * dx, p[1] - a[1] - t * dy);
-            let d = ex.hypot(ey);
-            if d < best.0 {
-                let lateral = (dx * (p[1] - a[1]) - dy * (p[0] - a[0])) / len_sq.sqrt();
-                best = (d, i, lateral);
-            }
-        }
-        self.segment = best.1;
-        (best.1, best.2)
+        let window = (self.segment.saturating_sub(4), self.segment + 30);
+        let projection = polyline::project(p, &self.centre, Some(window));
+        self.segment = projection.segment;
+        (projection.segment, projection.lateral_m)
     }
-}
-
-fn signed_area(polygon: &[Point]) -> f64 {
-    let n = polygon.len();
-    let mut sum = 0.0;
-    for i in 0..n {
-        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-        sum += a[0] * b[1] - b[0] * a[1];
-    }
-    sum / 2.0
-}
-
-/// BOLP of a convex car footprint against a (possibly concave) lane polygon: the lane is
-/// clipped by each edge of the footprint (Sutherland–Hodgman), in the two buffers.
-pub fn bolp_buffered(
-    car: &[Point; 4],
-    lane: &[Point],
-    a: &mut Vec<Point>,
-    b: &mut Vec<Point>,
-) -> f64 {
-    let car_area = signed_area(car);
-    if car_area == 0.0 {
-        return 0.0;
-    }
-    let orientation = car_area.signum();
-    a.clear();
-    a.extend_from_slice(lane);
-    for i in 0..4 {
-        let (p0, p1) = (car[i], car[(i + 1) % 4]);
-        let side = |p: Point| {
-            orientation * ((p1[0] - p0[0]) * (p[1] - p0[1]) - (p1[1] - p0[1]) * (p[0] - p0[0]))
-        };
-        b.clear();
-        let m = a.len();
-        for j in 0..m {
-            let (p, q) = (a[j], a[(j + 1) % m]);
-            let (sp, sq) = (side(p), side(q));
-            if sp >= 0.0 {
-                b.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                let t = sp / (sp - sq);
-                b.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
-            }
-        }
-        std::mem::swap(a, b);
-        if a.is_empty() {
-            return 1.0;
-        }
-    }
-    (1.0 - signed_area(a).abs() / car_area.abs()).clamp(0.0, 1.0)
 }
 
 #[cfg(test)]

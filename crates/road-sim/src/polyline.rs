@@ -11,6 +11,8 @@ pub struct Projection {
     pub along: f64,
     /// Distance from the point to the polyline, metres.
     pub distance_m: f64,
+    /// Signed distance from the line through that segment, metres: positive to its left.
+    pub lateral_m: f64,
 }
 
 /// The closest point of the polyline `line` (at least two points) to `point`, searched over
@@ -22,6 +24,7 @@ pub fn project(point: Point, line: &[Point], window: Option<(usize, usize)>) -> 
         segment: first,
         along: 0.0,
         distance_m: f64::INFINITY,
+        lateral_m: 0.0,
     };
     for segment in first..last {
         let (a, b) = (line[segment], line[segment + 1]);
@@ -34,10 +37,12 @@ pub fn project(point: Point, line: &[Point], window: Option<(usize, usize)>) -> 
         };
         let distance_m = (a[0] + along * dx - point[0]).hypot(a[1] + along * dy - point[1]);
         if distance_m < best.distance_m {
+            let lateral_m = (dx * (point[1] - a[1]) - dy * (point[0] - a[0])) / length_sq.sqrt();
             best = Projection {
                 segment,
                 along,
                 distance_m,
+                lateral_m,
             };
         }
     }
@@ -62,5 +67,8 @@ mod tests {
         let p = project([12.0, 5.0], &line, None);
         assert_eq!(p.segment, 1);
         assert!((p.along - 0.5).abs() < 1e-12);
+        // Right of the upward segment.
+        assert!((p.lateral_m + 2.0).abs() < 1e-12);
+        assert!((project([5.0, 3.0], &line, None).lateral_m - 3.0).abs() < 1e-12);
     }
 }
