@@ -154,3 +154,44 @@ fn bad_options_exit_2() {
         assert!(records.is_empty());
     }
 }
+
+#[test]
+fn a_config_file_overrides_the_defaults_and_typos_are_named() {
+    let dir = std::env::temp_dir().join(format!("wogan-config-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("good.json");
+    std::fs::write(
+        &good,
+        r#"{"search": {"wogan": {"analyzer": {"max_batch": 64}}}, "sim": {"speed_limit_kmh": 50}}"#,
+    )
+    .unwrap();
+    let (code, records) = run(&["--max-tests", "12", "--config", good.to_str().unwrap()]);
+    assert_eq!(code, Some(0));
+    let config = &records[0]["config"];
+    assert_eq!(config["search"]["wogan"]["analyzer"]["max_batch"], 64);
+    assert_eq!(config["sim"]["speed_limit_kmh"], 50.0);
+    // The file's other settings keep the paper's defaults.
+    assert_eq!(config["search"]["wogan"]["bins"], 10);
+    assert_eq!(config["sim"]["oob_tolerance"], 0.85);
+
+    let typo = dir.join("typo.json");
+    std::fs::write(&typo, r#"{"search": {"wogan": {"analyser": {}}}}"#).unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_wogan"))
+        .args(["run", "--config", typo.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("analyser"));
+    assert!(output.stdout.is_empty());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_wall_clock_budget_ends_the_run_with_a_summary() {
+    let (code, records) = run(&["--budget", "1s", "--algorithm", "random"]);
+    assert_eq!(code, Some(0));
+    let summary = records.last().unwrap();
+    assert_eq!(summary["type"], "summary");
+    assert!(summary["executed"].as_u64().unwrap() > 0);
+    assert_eq!(records[0]["config"]["budget_s"], 1.0);
+}

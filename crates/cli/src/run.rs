@@ -55,9 +55,59 @@ pub struct RunArgs {
     /// Share of the budget spent on the initial random search [default: 0.2].
     #[arg(long, value_parser = fraction)]
     pub init_fraction: Option<f64>,
+    /// JSON file overriding the paper's defaults: `{"search": {...}, "sim": {...}}` (the
+    /// header's `config.search` and `config.sim` show every field). Options given on the command
+    /// line win over the file.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// The settings a `--config` file may override: partial objects, laid over the defaults.
+#[derive(Debug, Default, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct ConfigFile {
+    search: Option<serde_json::Value>,
+    sim: Option<serde_json::Value>,
+}
+
+impl ConfigFile {
+    fn read(path: &std::path::Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read config file {}", path.display()))?;
+        serde_json::from_str(&text).with_context(|| format!("config file {}", path.display()))
+    }
+
+    /// `defaults` with the file's `section` laid over them, field by field.
+    fn over<T: Serialize + serde::de::DeserializeOwned>(
+        section: &Option<serde_json::Value>,
+        defaults: T,
+        name: &str,
+    ) -> Result<T> {
+        let Some(patch) = section else {
+            return Ok(defaults);
+        };
+        let mut merged = serde_json::to_value(defaults).context("cannot encode the defaults")?;
+        merge(&mut merged, patch);
+        serde_json::from_value(merged).with_context(|| format!("config file, \"{name}\""))
+    }
+}
+
+/// Lays `patch` over `base`: objects merge key by key, anything else replaces.
+fn merge(base: &mut serde_json::Value, patch: &serde_json::Value) {
+    match (base, patch) {
+        (serde_json::Value::Object(base), serde_json::Value::Object(patch)) => {
+            for (key, value) in patch {
+                merge(
+                    base.entry(key.clone()).or_insert(serde_json::Value::Null),
+                    value,
+                );
+            }
+        }
+        (base, patch) => *base = patch.clone(),
+    }
 }
 
 /// `--algorithm` values.
@@ -149,8 +199,15 @@ pub fn run(args: &RunArgs) -> Result<Status> {
         ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
             .context("cannot install the Ctrl-C handler")?;
     }
-    let mut out = JsonLinesWriter::create(args.out.as_ref())?;
-    let sim = args.sim.sim_config();
+    let file = match &args.config {
+        Some(path) => ConfigFile::read(path)?,
+        None => ConfigFile::default(),
+    };
+    let sim = args.sim.apply_to(ConfigFile::over(
+        &file.sim,
+        args.sim.driver_defaults(),
+        "sim",
+    )?);
     let fitness = args
         .fitness
         .unwrap_or_else(|| default_fitness(args.sim.oracle));
@@ -164,16 +221,18 @@ pub fn run(args: &RunArgs) -> Result<Status> {
             AlgorithmArg::Random => Algorithm::Random,
         },
         jobs: args.jobs as usize,
-        ..RunConfig::default()
+        ..ConfigFile::over(&file.search, RunConfig::default(), "search")?
     };
     if let Some(init_fraction) = args.init_fraction {
         search.wogan.init_fraction = init_fraction;
     }
+    search.validate().context("invalid search settings")?;
     let budget = Budget {
         max_tests: args.max_tests.map(|n| n as usize),
         wall: args.budget,
     }
     .effective();
+    let mut out = JsonLinesWriter::create(args.out.as_ref())?;
     out.write(&Header {
         kind: "header",
         version: env!("CARGO_PKG_VERSION"),

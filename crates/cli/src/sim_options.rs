@@ -22,15 +22,25 @@ pub struct SimOptions {
 }
 
 impl SimOptions {
-    /// The simulation settings these options ask for.
-    pub fn sim_config(&self) -> SimConfig {
-        let defaults = SimConfig::default();
+    /// The chosen driver's default simulation settings.
+    pub fn driver_defaults(&self) -> SimConfig {
         SimConfig {
-            speed_limit_kmh: self.speed_limit.unwrap_or(defaults.speed_limit_kmh),
-            oob_tolerance: self
-                .oob_tolerance
-                .unwrap_or_else(|| self.oracle.default_oob_tolerance()),
-            ..defaults
+            oob_tolerance: self.oracle.default_oob_tolerance(),
+            ..SimConfig::default()
+        }
+    }
+
+    /// The simulation settings these options ask for, on the driver's defaults.
+    pub fn sim_config(&self) -> SimConfig {
+        self.apply_to(self.driver_defaults())
+    }
+
+    /// `base` with the options given on the command line applied.
+    pub fn apply_to(&self, base: SimConfig) -> SimConfig {
+        SimConfig {
+            speed_limit_kmh: self.speed_limit.unwrap_or(base.speed_limit_kmh),
+            oob_tolerance: self.oob_tolerance.unwrap_or(base.oob_tolerance),
+            ..base
         }
     }
 }

@@ -24,7 +24,7 @@ const G: f64 = 9.81;
 
 /// Tuning of the `beamng-ai-proxy` driver.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct BeamNgAiParams {
     /// BeamNG.AI's aggression, `[0, 1]`: scales the planned lateral and braking accelerations.
     pub aggression: f64,

@@ -20,7 +20,7 @@ const END_SEGMENTS: usize = 25;
 
 /// How a drive is simulated and judged.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct SimConfig {
     /// The driver's speed limit, km/h.
     pub speed_limit_kmh: f64,

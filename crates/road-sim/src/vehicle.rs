@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 /// Physical parameters of the car (a mid-size sedan by default).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct VehicleParams {
     /// Body length, metres (the footprint the oracle measures).
     pub length_m: f64,
