@@ -4,12 +4,18 @@
 //! search algorithms from `wogan-core`. Results go to stdout as JSON lines, one object per line,
 //! flushed as soon as known; progress and logs go to stderr.
 
+mod export;
 mod json_lines;
+mod plots;
+mod report;
 mod road_lines;
 mod road_sut;
 mod run;
 mod sim_options;
 mod simulate;
+mod stats;
+mod trace_plot;
+mod train_driver;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -44,8 +50,12 @@ enum Command {
     Simulate(simulate::SimulateArgs),
     /// Search for roads on which the driver leaves its lane (WOGAN or random search).
     Run(run::RunArgs),
+    /// Train the dave2-proxy driver by behaviour cloning from beamng-ai-proxy.
+    TrainDriver(train_driver::TrainDriverArgs),
     /// Write a Markdown report with SVG pictures of runs, or a picture of one simulation trace.
+    Report(report::ReportArgs),
     /// Write a run in the SBST competition's result layout.
+    Export(export::ExportArgs),
 }
 
 fn main() -> ExitCode {
@@ -54,6 +64,9 @@ fn main() -> ExitCode {
         Command::Validate(args) => validate::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Run(args) => run::run(&args),
+        Command::TrainDriver(args) => train_driver::run(&args),
+        Command::Report(args) => report::run(&args),
+        Command::Export(args) => export::run(&args),
     };
     match outcome {
         Ok(Status::AllRead) => ExitCode::from(EXIT_OK),

@@ -6,7 +6,7 @@
 use road_sim::curvature::MAX_CURVATURE_PER_M;
 use road_sim::outcome::Outcome;
 use road_sim::{
-    simulate_kind, CurvatureRoad, DriverKind, Point, Road, SimConfig, SimResult, Validator,
+    simulate_setup, CurvatureRoad, DriverSetup, Point, Road, SimConfig, SimResult, Validator,
 };
 use serde::{Deserialize, Serialize};
 use wogan_core::{Execution, Sut};
@@ -30,7 +30,7 @@ pub struct RoadSut {
     /// The competition's rules.
     pub validator: Validator,
     /// The driver under test.
-    pub driver: DriverKind,
+    pub driver: DriverSetup,
     /// How drives are simulated and judged.
     pub sim: SimConfig,
     /// What the search maximises.
@@ -90,7 +90,7 @@ impl Sut for RoadSut {
         let road_points = self.roads.points(&curvature);
         // The search only executes valid tests, whose points always interpolate.
         let road = Road::new(&road_points).expect("a valid road interpolates");
-        let result = simulate_kind(&road, self.driver, &self.sim, false);
+        let result = simulate_setup(&road, &self.driver, &self.sim, false);
         Execution {
             fitness: self.fitness_of(&result),
             output: RoadExecution {

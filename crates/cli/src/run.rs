@@ -43,7 +43,7 @@ pub struct RunArgs {
     /// Tests simulated at once where they are independent (the random phase).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
     pub jobs: u32,
-    /// What the search maximises [default: bolp for beamng-ai-proxy].
+    /// What the search maximises [default: bolp for beamng-ai-proxy, distance for dave2-proxy].
     #[arg(long, value_enum)]
     pub fitness: Option<FitnessKind>,
     /// Curvature values per road (the road has one point more).
@@ -132,6 +132,8 @@ fn fraction(text: &str) -> Result<f64, String> {
 fn default_fitness(driver: DriverKind) -> FitnessKind {
     match driver {
         DriverKind::BeamNgAiProxy => FitnessKind::Bolp,
+        // DAVE-2's BOLP stays 0 on most roads, which leaves nothing to learn from.
+        DriverKind::Dave2Proxy => FitnessKind::Distance,
     }
 }
 
@@ -254,7 +256,7 @@ pub fn run(args: &RunArgs) -> Result<Status> {
         roads,
         curvature_points: args.curvature_points as usize,
         validator: Validator::new(args.sim.map_size),
-        driver: args.sim.oracle,
+        driver: args.sim.driver_setup()?,
         sim,
         fitness,
     };

@@ -6,7 +6,7 @@ use crate::sim_options::SimOptions;
 use crate::Status;
 use anyhow::{Context, Result};
 use clap::Args;
-use road_sim::{simulate_kind, Point, Reason, Road, Sample, SimResult, Validator};
+use road_sim::{simulate_setup, Point, Reason, Road, Sample, SimResult, Validator};
 use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -59,6 +59,7 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
     let mut out = JsonLinesWriter::create(None)?;
     let validator = Validator::new(args.sim.map_size);
     let config = args.sim.sim_config();
+    let driver = args.sim.driver_setup()?;
     let pool = thread_pool(args.jobs as usize)?;
     answer_each_road(
         input,
@@ -69,8 +70,7 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
             let verdict = validator.validate(road.points().unwrap_or_default());
             match (verdict.reason, verdict.road) {
                 (None, Some(road)) => {
-                    let mut result =
-                        simulate_kind(&road, args.sim.oracle, &config, args.trace.is_some());
+                    let mut result = simulate_setup(&road, &driver, &config, args.trace.is_some());
                     if let (Some(dir), Some(samples)) = (&args.trace, result.trace.take()) {
                         if let Err(error) = write_trace(dir, line, &road, &samples) {
                             eprintln!("wogan: line {line}: {error:#}");

@@ -7,6 +7,7 @@
 //! against the lane and the road's shape.
 
 pub mod beamng_ai;
+pub mod behaviour_cloning;
 pub mod bolp;
 pub mod circle;
 pub mod curvature;
@@ -28,10 +29,14 @@ pub mod vehicle;
 pub type Point = [f64; 2];
 
 pub use curvature::CurvatureRoad;
-pub use driver::{Driver, DriverKind, Observation};
+pub use driver::{Driver, DriverKind, DriverSetup, Observation};
 pub use features::RoadFeatures;
 pub use outcome::{Outcome, Sample, SimResult};
 pub use road::Road;
-pub use simulation::{simulate, simulate_kind, SimConfig};
+pub use simulation::{simulate, simulate_kind, simulate_setup, SimConfig};
 pub use validator::{Reason, Validator, Verdict};
 pub use vehicle::{CarState, Command, Vehicle, VehicleParams};
+pub mod camera;
+pub mod dave2;
+pub mod dave2_driver;
+pub mod dave2_inference;

@@ -1,8 +1,9 @@
 //! One drive: a car in a fresh rapier world, a driver, and the oracle sampling it until the car
 //! reaches the end of the road, leaves its lane, stops, runs out of time, or the physics breaks.
 
-use crate::beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
-use crate::driver::{Driver, DriverKind, Observation};
+use crate::beamng_ai::BeamNgAiParams;
+use crate::dave2_driver::Dave2DriverParams;
+use crate::driver::{Driver, DriverKind, DriverSetup, Observation};
 use crate::features::RoadFeatures;
 use crate::oracle::LaneMonitor;
 use crate::outcome::{
@@ -46,6 +47,8 @@ pub struct SimConfig {
     pub vehicle: VehicleParams,
     /// Tuning of the `beamng-ai-proxy` driver (used by [`simulate_kind`]).
     pub beamng_ai: BeamNgAiParams,
+    /// Settings of the `dave2-proxy` driver.
+    pub dave2: Dave2DriverParams,
 }
 
 impl Default for SimConfig {
@@ -63,6 +66,7 @@ impl Default for SimConfig {
             not_moving_window_s: 10.0,
             vehicle: VehicleParams::default(),
             beamng_ai: BeamNgAiParams::default(),
+            dave2: Dave2DriverParams::default(),
         }
     }
 }
@@ -98,16 +102,19 @@ pub fn start_pose(road: &Road, offset_m: f64) -> (Point, f64) {
     unreachable!("a road has at least two interpolated points")
 }
 
-/// Simulates the driver of kind `kind` (tuned by `config`) on `road`.
+/// Simulates the driver of kind `kind` (tuned by `config`, with built-in weights) on `road`.
 pub fn simulate_kind(road: &Road, kind: DriverKind, config: &SimConfig, trace: bool) -> SimResult {
-    match kind {
-        DriverKind::BeamNgAiProxy => simulate(
-            road,
-            &mut BeamNgAiProxy::new(config.beamng_ai),
-            config,
-            trace,
-        ),
-    }
+    simulate_setup(road, &DriverSetup::new(kind), config, trace)
+}
+
+/// Simulates a driver built from `setup` (tuned by `config`) on `road`.
+pub fn simulate_setup(
+    road: &Road,
+    setup: &DriverSetup,
+    config: &SimConfig,
+    trace: bool,
+) -> SimResult {
+    simulate(road, setup.build(config).as_mut(), config, trace)
 }
 
 /// Drives `driver` on `road`; returns the verdict, the oracle's figures and, if `trace`, the

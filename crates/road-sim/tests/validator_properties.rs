@@ -1,6 +1,7 @@
 //! Property tests: the validator always answers, never panics, and respects the map's symmetry.
 
 use proptest::prelude::*;
+use road_sim::spline::polyline_length;
 use road_sim::{CurvatureRoad, Point, Validator};
 
 /// Coordinates that include the awkward values: NaN, infinities, huge and repeated numbers.
@@ -45,6 +46,12 @@ proptest! {
     fn mirroring_about_the_vertical_centre_line_keeps_the_verdict(points in curvature_road()) {
         let validator = Validator::default();
         let mirrored: Vec<Point> = points.iter().map(|p| [validator.map_size_m - p[0], p[1]]).collect();
+        // The competition samples a road every `1 / floor(length)` of its parameter. `200 - x`
+        // rounds, so a road almost exactly a whole number of metres long can be sampled
+        // differently from its mirror image (and, through numpy's `arange`, get one extra sample
+        // past its end): there the reference itself is not mirror-symmetric.
+        let floor_length = |p: &[Point]| polyline_length(p).floor();
+        prop_assume!(floor_length(&points) == floor_length(&mirrored));
         prop_assert_eq!(validator.validate(&points).reason, validator.validate(&mirrored).reason);
     }
 

@@ -1,0 +1,189 @@
+//! The figures of a group of repeated runs: per-run measures and their mean and SD over runs,
+//! and the competition's feature coverage of the failing tests.
+
+use super::run_file::RunFile;
+use crate::stats::{mean, median, sample_sd};
+use road_sim::heading_profile::heading_profile;
+use road_sim::Road;
+use std::collections::BTreeSet;
+use wogan_core::diversity::median_pairwise_distance;
+
+/// Width of a MAX_CURV coverage bin, 1/m.
+pub const MAX_CURV_BIN_PER_M: f64 = 0.01;
+/// Width of a STD_SA coverage bin, degrees.
+pub const STD_SA_BIN_DEG: f64 = 1.0;
+/// Width of a MEAN_LP coverage bin, metres.
+pub const MEAN_LP_BIN_M: f64 = 0.25;
+
+/// The measures of one run.
+#[derive(Debug, Clone)]
+pub struct RunMeasures {
+    /// Tests executed.
+    pub executed: usize,
+    /// Failing tests.
+    pub failures: usize,
+    /// Mean generation time per test, milliseconds.
+    pub generation_ms_per_test: Option<f64>,
+    /// Total simulated time, seconds.
+    pub simulated_s: f64,
+    /// Time spent training models (WOGAN's `train` records), seconds.
+    pub training_s: f64,
+    /// Median pairwise distance of the failing roads' heading profiles; `None` below two failures.
+    pub diversity: Option<f64>,
+}
+
+impl RunMeasures {
+    /// Measures `run`.
+    pub fn of(run: &RunFile) -> Self {
+        let generation: Vec<f64> = run.tests.iter().filter_map(|t| t.generation_ms).collect();
+        let profiles: Vec<Vec<f64>> = run
+            .tests
+            .iter()
+            .filter(|t| t.failed())
+            .filter_map(|t| Road::new(&t.road_points).ok())
+            .map(|road| heading_profile(&road.interpolated))
+            .collect();
+        let seed = run.header.as_ref().and_then(|h| h.seed).unwrap_or(0);
+        Self {
+            executed: run.tests.len(),
+            failures: run.failures(),
+            generation_ms_per_test: mean(&generation),
+            simulated_s: run.tests.iter().filter_map(|t| t.sim_time_s).sum(),
+            training_s: run.train_ms / 1000.0,
+            diversity: median_pairwise_distance(&profiles, seed).median_distance,
+        }
+    }
+}
+
+/// Mean and sample SD of one measure over runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spread {
+    /// Runs the measure was defined for.
+    pub count: usize,
+    /// Mean over those runs.
+    pub mean: Option<f64>,
+    /// Sample standard deviation over those runs.
+    pub sd: Option<f64>,
+}
+
+impl Spread {
+    /// Spread of `values`.
+    pub fn of(values: &[f64]) -> Self {
+        Self {
+            count: values.len(),
+            mean: mean(values),
+            sd: sample_sd(values),
+        }
+    }
+}
+
+/// Range and bins covered by one feature over the failing tests.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FeatureCoverage {
+    /// Smallest value.
+    pub min: Option<f64>,
+    /// Median value.
+    pub median: Option<f64>,
+    /// Largest value.
+    pub max: Option<f64>,
+    /// Distinct bins hit.
+    pub bins: usize,
+}
+
+impl FeatureCoverage {
+    /// Coverage of `values` with bins of `bin_width` (bins counted from 0).
+    pub fn of(values: &[f64], bin_width: f64) -> Self {
+        let bins: BTreeSet<i64> = values
+            .iter()
+            .map(|v| (v / bin_width).floor() as i64)
+            .collect();
+        Self {
+            min: values.iter().copied().reduce(f64::min),
+            median: median(values),
+            max: values.iter().copied().reduce(f64::max),
+            bins: bins.len(),
+        }
+    }
+}
+
+/// Everything the report says about one group of runs.
+#[derive(Debug, Clone)]
+pub struct GroupFigures {
+    /// Per-run measures, in input order.
+    pub runs: Vec<RunMeasures>,
+    /// Tests executed per run.
+    pub executed: Spread,
+    /// Failures per run.
+    pub failures: Spread,
+    /// Failures over all tests of the group.
+    pub failure_rate: Option<f64>,
+    /// Mean generation time per test, milliseconds, over runs.
+    pub generation_ms: Spread,
+    /// Simulated time per run, seconds.
+    pub simulated_s: Spread,
+    /// Training time per run, seconds.
+    pub training_s: Spread,
+    /// Diversity over the runs with at least two failures.
+    pub diversity: Spread,
+    /// DIR_COV buckets (k of k/26) hit by the failing tests.
+    pub dir_cov_buckets: BTreeSet<u32>,
+    /// DIR_COV of the failing tests (bins: the buckets above).
+    pub dir_cov: FeatureCoverage,
+    /// MAX_CURV of the failing tests, 1/m.
+    pub max_curv: FeatureCoverage,
+    /// STD_SA of the failing tests, degrees.
+    pub std_sa: FeatureCoverage,
+    /// MEAN_LP of the failing tests, metres.
+    pub mean_lp: FeatureCoverage,
+}
+
+impl GroupFigures {
+    /// Figures of `runs`.
+    pub fn of(runs: &[&RunFile]) -> Self {
+        let measures: Vec<RunMeasures> = runs.iter().map(|r| RunMeasures::of(r)).collect();
+        let column = |f: &dyn Fn(&RunMeasures) -> Option<f64>| -> Vec<f64> {
+            measures.iter().filter_map(f).collect()
+        };
+        let executed_total: usize = measures.iter().map(|m| m.executed).sum();
+        let failed_total: usize = measures.iter().map(|m| m.failures).sum();
+        let failing: Vec<_> = runs
+            .iter()
+            .flat_map(|r| r.tests.iter().filter(|t| t.failed()))
+            .collect();
+        let feature = |f: &dyn Fn(&super::run_file::TestRecord) -> Option<f64>| -> Vec<f64> {
+            failing.iter().filter_map(|t| f(t)).collect()
+        };
+        let dir_cov_values = feature(&|t| t.dir_cov);
+        let dir_cov_buckets: BTreeSet<u32> = dir_cov_values
+            .iter()
+            .map(|v| (v * 26.0).round() as u32)
+            .collect();
+        let mut dir_cov = FeatureCoverage::of(&dir_cov_values, 1.0 / 26.0);
+        dir_cov.bins = dir_cov_buckets.len();
+        Self {
+            executed: Spread::of(&column(&|m| Some(m.executed as f64))),
+            failures: Spread::of(&column(&|m| Some(m.failures as f64))),
+            failure_rate: (executed_total > 0).then(|| failed_total as f64 / executed_total as f64),
+            generation_ms: Spread::of(&column(&|m| m.generation_ms_per_test)),
+            simulated_s: Spread::of(&column(&|m| Some(m.simulated_s))),
+            training_s: Spread::of(&column(&|m| Some(m.training_s))),
+            diversity: Spread::of(&column(&|m| m.diversity)),
+            dir_cov_buckets,
+            dir_cov,
+            max_curv: FeatureCoverage::of(&feature(&|t| t.max_curv), MAX_CURV_BIN_PER_M),
+            std_sa: FeatureCoverage::of(&feature(&|t| t.std_sa), STD_SA_BIN_DEG),
+            mean_lp: FeatureCoverage::of(&feature(&|t| t.mean_lp), MEAN_LP_BIN_M),
+            runs: measures,
+        }
+    }
+
+    /// Failures of each run, as numbers for a test.
+    pub fn failure_counts(&self) -> Vec<f64> {
+        self.runs.iter().map(|m| m.failures as f64).collect()
+    }
+
+    /// Diversity of each run that has one.
+    pub fn diversities(&self) -> Vec<f64> {
+        self.runs.iter().filter_map(|m| m.diversity).collect()
+    }
+}

@@ -1,0 +1,203 @@
+//! The text of `report.md`: a table of figures per group, feature coverage, links to the
+//! pictures, and (with `--vs`) the two groups side by side with Mann–Whitney p-values.
+
+use super::group::{
+    FeatureCoverage, GroupFigures, Spread, MAX_CURV_BIN_PER_M, MEAN_LP_BIN_M, STD_SA_BIN_DEG,
+};
+use crate::stats::{mann_whitney, PMethod};
+use std::fmt::Write;
+
+/// File names of a group's pictures (relative to the report).
+pub struct Pictures {
+    /// The failing roads on the map.
+    pub roads: String,
+    /// The max-BOLP histogram.
+    pub bolp: String,
+    /// Fitness over each run, in input order.
+    pub fitness: Vec<String>,
+}
+
+/// One group as the report shows it.
+pub struct GroupSection {
+    /// The group's configuration.
+    pub label: String,
+    /// Each run's file and how it ended when not normally.
+    pub files: Vec<(String, Option<&'static str>)>,
+    /// The group's figures.
+    pub figures: GroupFigures,
+    /// The group's pictures.
+    pub pictures: Pictures,
+}
+
+/// A number with 3 decimals, or a dash when undefined.
+fn number(value: Option<f64>) -> String {
+    value.map_or_else(|| "–".to_owned(), |v| format!("{v:.3}"))
+}
+
+/// A table row `| name | mean | SD | runs |`.
+fn spread_row(name: &str, spread: &Spread) -> String {
+    format!(
+        "| {name} | {} | {} | {} |\n",
+        number(spread.mean),
+        number(spread.sd),
+        spread.count
+    )
+}
+
+/// A feature-coverage row.
+fn coverage_row(name: &str, coverage: &FeatureCoverage) -> String {
+    format!(
+        "| {name} | {} | {} | {} | {} |\n",
+        coverage.bins,
+        number(coverage.min),
+        number(coverage.median),
+        number(coverage.max)
+    )
+}
+
+/// The whole report.
+pub fn report(sections: &[GroupSection], compare: bool, problems: &[String]) -> String {
+    let mut text = String::from("# wogan report\n\n");
+    let runs: usize = sections.iter().map(|s| s.files.len()).sum();
+    let _ = writeln!(text, "{runs} run(s) in {} group(s).\n", sections.len());
+    if !problems.is_empty() {
+        let _ = writeln!(
+            text,
+            "**{} input line(s) could not be read** (the rest is reported):\n",
+            problems.len()
+        );
+        for problem in problems {
+            let _ = writeln!(text, "- `{problem}`");
+        }
+        text.push('\n');
+    }
+    if compare && sections.len() == 2 {
+        text.push_str(&comparison(&sections[0], &sections[1]));
+    }
+    for (index, section) in sections.iter().enumerate() {
+        text.push_str(&group(index + 1, section));
+    }
+    text
+}
+
+/// One group's section.
+fn group(number_1: usize, section: &GroupSection) -> String {
+    let f = &section.figures;
+    let mut text = format!("## Group {number_1}: {}\n\n", section.label);
+    for (file, note) in &section.files {
+        let note = note.map_or_else(String::new, |n| format!(" ({n})"));
+        let _ = writeln!(text, "- `{file}`{note}");
+    }
+    text.push_str("\n| measure | mean | SD | runs |\n|---|---|---|---|\n");
+    text.push_str(&spread_row("tests executed", &f.executed));
+    text.push_str(&spread_row("failures", &f.failures));
+    let _ = writeln!(
+        text,
+        "| failure rate (all tests pooled) | {} | | |",
+        number(f.failure_rate)
+    );
+    text.push_str(&spread_row(
+        "generation time per test (ms)",
+        &f.generation_ms,
+    ));
+    text.push_str(&spread_row("training time per run (s)", &f.training_s));
+    text.push_str(&spread_row("simulated time per run (s)", &f.simulated_s));
+    text.push_str(&spread_row(
+        "diversity (median pairwise heading-profile distance of failing roads; runs with ≥ 2 failures)",
+        &f.diversity,
+    ));
+    let failing: usize = f.runs.iter().map(|m| m.failures).sum();
+    let _ = writeln!(
+        text,
+        "\nFeature coverage of the {failing} failing test(s):\n"
+    );
+    text.push_str("| feature | bins covered | min | median | max |\n|---|---|---|---|---|\n");
+    text.push_str(&coverage_row("DIR_COV (buckets of 1/26)", &f.dir_cov));
+    text.push_str(&coverage_row(
+        &format!("MAX_CURV (1/m, bins of {MAX_CURV_BIN_PER_M})"),
+        &f.max_curv,
+    ));
+    text.push_str(&coverage_row(
+        &format!("STD_SA (deg, bins of {STD_SA_BIN_DEG})"),
+        &f.std_sa,
+    ));
+    text.push_str(&coverage_row(
+        &format!("MEAN_LP (m, bins of {MEAN_LP_BIN_M})"),
+        &f.mean_lp,
+    ));
+    let buckets: Vec<String> = f
+        .dir_cov_buckets
+        .iter()
+        .map(|k| format!("{k}/26"))
+        .collect();
+    if !buckets.is_empty() {
+        let _ = writeln!(text, "\nDIR_COV values hit: {}.", buckets.join(", "));
+    }
+    let p = &section.pictures;
+    let _ = writeln!(
+        text,
+        "\nPictures: [failing roads]({}) · [max BOLP histogram]({})",
+        p.roads, p.bolp
+    );
+    let runs: Vec<String> = p
+        .fitness
+        .iter()
+        .enumerate()
+        .map(|(i, name)| format!("[run {}]({name})", i + 1))
+        .collect();
+    let _ = writeln!(text, "· fitness over the run: {}\n", runs.join(" "));
+    let _ = writeln!(
+        text,
+        "![failing roads]({})\n\n![max BOLP]({})\n",
+        p.roads, p.bolp
+    );
+    if let Some(first) = p.fitness.first() {
+        let _ = writeln!(text, "![fitness over run 1]({first})\n");
+    }
+    text
+}
+
+/// The side-by-side table of two groups.
+fn comparison(a: &GroupSection, b: &GroupSection) -> String {
+    let mut text = String::from("## Comparison: A vs B\n\n");
+    let _ = writeln!(text, "- {}\n- {}\n", a.label, b.label);
+    text.push_str("| measure | A mean (SD) | B mean (SD) | U of A | p (two-sided) | method |\n");
+    text.push_str("|---|---|---|---|---|---|\n");
+    let rows = [
+        (
+            "failures per run",
+            a.figures.failure_counts(),
+            b.figures.failure_counts(),
+            &a.figures.failures,
+            &b.figures.failures,
+        ),
+        (
+            "diversity",
+            a.figures.diversities(),
+            b.figures.diversities(),
+            &a.figures.diversity,
+            &b.figures.diversity,
+        ),
+    ];
+    for (name, x, y, sa, sb) in rows {
+        let both = |s: &Spread| format!("{} ({}) n={}", number(s.mean), number(s.sd), s.count);
+        let (u, p, method) = match mann_whitney(&x, &y) {
+            Some(r) => {
+                let method = match r.method {
+                    PMethod::Exact => "exact",
+                    PMethod::Normal => "normal, tie-corrected",
+                };
+                (r.u1.to_string(), format!("{:.4}", r.p_value), method)
+            }
+            None => ("–".to_owned(), "–".to_owned(), "too few runs"),
+        };
+        let _ = writeln!(
+            text,
+            "| {name} | {} | {} | {u} | {p} | {method} |",
+            both(sa),
+            both(sb)
+        );
+    }
+    text.push('\n');
+    text
+}
