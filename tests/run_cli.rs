@@ -195,3 +195,46 @@ fn a_wall_clock_budget_ends_the_run_with_a_summary() {
     assert!(summary["executed"].as_u64().unwrap() > 0);
     assert_eq!(records[0]["config"]["budget_s"], 1.0);
 }
+
+#[test]
+fn a_dave2_proxy_run_searches_the_distance_fitness() {
+    let (code, records) = run(&[
+        "--oracle",
+        "dave2-proxy",
+        "--max-tests",
+        "10",
+        "--seed",
+        "4",
+    ]);
+    assert_eq!(code, Some(0));
+    let header = &records[0];
+    assert_eq!(header["oracle"], "dave2-proxy");
+    assert_eq!(header["fitness"], "distance");
+    assert_eq!(header["config"]["sim"]["oob_tolerance"], 0.1);
+    assert_eq!(header["config"]["sim"]["speed_limit_kmh"], 25.0);
+    let tests = of_type(&records, "test");
+    assert_eq!(tests.len(), 10);
+    for test in &tests {
+        assert_eq!(test["fitness"], test["fitness_distance"]);
+    }
+    assert_eq!(records.last().unwrap()["type"], "summary");
+}
+
+#[test]
+fn driver_weights_must_be_dave2_weights() {
+    let dir = std::env::temp_dir().join(format!("wogan-weights-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let junk = dir.join("junk.bin");
+    std::fs::write(&junk, b"not weights").unwrap();
+    let (code, records) = run(&[
+        "--oracle",
+        "dave2-proxy",
+        "--driver-weights",
+        junk.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(2));
+    assert!(records.is_empty());
+    let (code, _) = run(&["--driver-weights", junk.to_str().unwrap()]);
+    assert_eq!(code, Some(2), "beamng-ai-proxy takes no weights");
+    std::fs::remove_dir_all(&dir).ok();
+}

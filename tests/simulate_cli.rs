@@ -79,3 +79,76 @@ fn trace_files_hold_the_road_and_the_samples() {
     assert!(times.windows(2).all(|w| w[1] > w[0]));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn camera_writes_the_drivers_view_as_png() {
+    let dir = std::env::temp_dir().join(format!("wogan-camera-{}", std::process::id()));
+    let road = reference_roads(1);
+    let out = dir.to_str().unwrap();
+    for (args, channels) in [
+        (&["camera", "--at", "2.5,40", "--out", out][..], 2u8),
+        (&["camera", "--at", "10", "--gray", "--out", out], 0),
+    ] {
+        let output = wogan(args, &road);
+        assert_eq!(
+            output.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let name = if channels == 2 {
+            "camera.40.png"
+        } else {
+            "camera.10.png"
+        };
+        let png = std::fs::read(dir.join(name)).expect("a PNG was written");
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+        // IHDR: width 200, height 66, 8 bits, colour type 2 (RGB) or 0 (gray).
+        assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 200);
+        assert_eq!(u32::from_be_bytes(png[20..24].try_into().unwrap()), 66);
+        assert_eq!(png[25], channels);
+    }
+    let invalid = wogan(&["camera", "--out", out], "[[1, 1], [2, 2]]");
+    assert_eq!(invalid.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn dave2_proxy_drives_with_its_own_defaults() {
+    let output = wogan(
+        &[
+            "simulate",
+            "--oracle",
+            "dave2-proxy",
+            "--trace",
+            std::env::temp_dir()
+                .join(format!("wogan-dave2-{}", std::process::id()))
+                .to_str()
+                .unwrap(),
+        ],
+        &reference_roads(3),
+    );
+    assert_eq!(output.status.code(), Some(0));
+    for record in records(&output) {
+        assert!(
+            ["PASS", "FAIL"].contains(&record["outcome"].as_str().unwrap()),
+            "{record}"
+        );
+        assert!(record["STD_SA"].is_number());
+    }
+    let trace = std::env::temp_dir()
+        .join(format!("wogan-dave2-{}", std::process::id()))
+        .join("trace.1.jsonl");
+    let text = std::fs::read_to_string(&trace).unwrap();
+    let top_speed = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            serde_json::from_str::<Value>(l).unwrap()["speed_kmh"]
+                .as_f64()
+                .unwrap()
+        })
+        .fold(0.0, f64::max);
+    // Its speed limit is 25 km/h, not beamng-ai-proxy's 70.
+    assert!(top_speed > 15.0 && top_speed < 27.5, "{top_speed}");
+}

@@ -4,6 +4,7 @@
 //! search algorithms from `wogan-core`. Results go to stdout as JSON lines, one object per line,
 //! flushed as soon as known; progress and logs go to stderr.
 
+mod camera;
 mod export;
 mod json_lines;
 mod plots;
@@ -52,6 +53,8 @@ enum Command {
     Run(run::RunArgs),
     /// Train the dave2-proxy driver by behaviour cloning from beamng-ai-proxy.
     TrainDriver(train_driver::TrainDriverArgs),
+    /// Write what the dave2-proxy camera sees along a road, as PNG.
+    Camera(camera::CameraArgs),
     /// Write a Markdown report with SVG pictures of runs, or a picture of one simulation trace.
     Report(report::ReportArgs),
     /// Write a run in the SBST competition's result layout.
@@ -65,6 +68,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => simulate::run(&args),
         Command::Run(args) => run::run(&args),
         Command::TrainDriver(args) => train_driver::run(&args),
+        Command::Camera(args) => camera::run(&args),
         Command::Report(args) => report::run(&args),
         Command::Export(args) => export::run(&args),
     };

@@ -229,6 +229,7 @@ pub fn run(args: &RunArgs) -> Result<Status> {
         search.wogan.init_fraction = init_fraction;
     }
     search.validate().context("invalid search settings")?;
+    let driver = args.sim.driver_setup()?;
     let budget = Budget {
         max_tests: args.max_tests.map(|n| n as usize),
         wall: args.budget,
@@ -256,7 +257,7 @@ pub fn run(args: &RunArgs) -> Result<Status> {
         roads,
         curvature_points: args.curvature_points as usize,
         validator: Validator::new(args.sim.map_size),
-        driver: args.sim.driver_setup()?,
+        driver,
         sim,
         fitness,
     };
