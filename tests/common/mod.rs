@@ -1,5 +1,8 @@
 //! Helpers shared by the end-to-end tests: run the binary, read its JSON lines.
 
+// Every test binary compiles this module on its own and uses only some of it.
+#![allow(dead_code)]
+
 use serde_json::Value;
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
