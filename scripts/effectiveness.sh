@@ -4,9 +4,10 @@
 #
 #   scripts/effectiveness.sh [ORACLE] [TESTS] [SEEDS] [extra wogan run options...]
 #   scripts/effectiveness.sh beamng-ai-proxy 300 "1 2 3 4 5"
-#   scripts/effectiveness.sh dave2-proxy 300 "1 2 3 4 5" --fitness bolp
+#   ALGORITHMS=wogan TAG=bolp scripts/effectiveness.sh dave2-proxy 300 "1 2 3 4 5" --fitness bolp
 #
-# Runs are kept in target/effectiveness/ for `wogan report`.
+# ALGORITHMS chooses the algorithms (default "random wogan"); TAG names the set of runs. Runs are
+# kept in target/effectiveness/ for `wogan report`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 oracle=${1:-beamng-ai-proxy}
@@ -15,20 +16,22 @@ seeds=${3:-1 2 3 4 5}
 shift $(( $# < 3 ? $# : 3 ))
 cargo build --release -q -p wogan-cli
 out=target/effectiveness
+algorithms=${ALGORITHMS:-random wogan}
+tag=${TAG:+.$TAG}
 mkdir -p "$out"
 field() { grep '"type":"summary"' "$1" | grep -o "\"$2\":[^,}]*" | cut -d: -f2; }
 median() { sort -g | awk '{v[NR]=$1} END {print (NR%2 ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2)}'; }
 printf '%-6s %-8s %8s %10s %8s\n' seed algo failed diversity wall_s
-for algorithm in random wogan; do
+for algorithm in $algorithms; do
   for seed in $seeds; do
-    file="$out/$oracle.$algorithm.$seed.jsonl"
+    file="$out/$oracle$tag.$algorithm.$seed.jsonl"
     ./target/release/wogan run --quiet --oracle "$oracle" --algorithm "$algorithm" \
       --max-tests "$tests" --seed "$seed" "$@" --out "$file"
     printf '%-6s %-8s %8s %10.3f %8.1f\n' "$seed" "$algorithm" "$(field "$file" failed)" \
       "$(field "$file" diversity | sed 's/null/0/')" "$(field "$file" wall_s)"
   done
 done
-for algorithm in random wogan; do
-  failed=$(for f in "$out/$oracle.$algorithm".*.jsonl; do field "$f" failed; done | median)
+for algorithm in $algorithms; do
+  failed=$(for seed in $seeds; do field "$out/$oracle$tag.$algorithm.$seed.jsonl" failed; done | median)
   echo "median failures, $algorithm: $failed"
 done

@@ -22,7 +22,7 @@ pub struct TrainDriverArgs {
     /// Passes over the training frames.
     #[arg(long, default_value_t = CloningConfig::default().epochs)]
     pub epochs: usize,
-    /// Training stops after the epoch that crosses this many minutes.
+    /// Wall-clock limit of the whole training, minutes (no epoch starts that would end later).
     #[arg(long, default_value_t = CloningConfig::default().time_limit_s / 60.0)]
     pub minutes: f64,
 }
