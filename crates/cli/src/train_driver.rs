@@ -19,6 +19,9 @@ pub struct TrainDriverArgs {
     /// Random roads driven for training frames.
     #[arg(long, default_value_t = CloningConfig::default().training_roads)]
     pub roads: usize,
+    /// Largest curvature of the training roads, 1/m (the search's roads go up to 0.07).
+    #[arg(long, default_value_t = CloningConfig::default().max_curvature_per_m)]
+    pub max_curvature: f64,
     /// Passes over the training frames.
     #[arg(long, default_value_t = CloningConfig::default().epochs)]
     pub epochs: usize,
@@ -44,6 +47,7 @@ pub fn run(args: &TrainDriverArgs) -> Result<Status> {
         training_roads: args.roads,
         validation_roads: (args.roads / 6).max(1),
         epochs: args.epochs,
+        max_curvature_per_m: args.max_curvature,
         time_limit_s: args.minutes * 60.0,
         ..CloningConfig::default()
     };
