@@ -10,8 +10,9 @@ use std::path::PathBuf;
 /// Options of `wogan train-driver`.
 #[derive(Debug, Args)]
 pub struct TrainDriverArgs {
-    /// Seed of every random choice: the same seed gives the same weights.
-    #[arg(long, default_value_t = 0)]
+    /// Seed of every random choice: the same seed gives the same weights (the built-in ones are
+    /// seed 1 with the defaults).
+    #[arg(long, default_value_t = CloningConfig::default().seed)]
     pub seed: u64,
     /// Where to write the weights (load them with `--driver-weights FILE`).
     #[arg(long, value_name = "FILE")]

@@ -6,10 +6,16 @@
 //! the pose the camera saw (DAgger-style): the student learns to recover, not only to follow.
 //! DAVE-2 is then trained with Adam on the mean squared error of the normalised steering, on a
 //! seeded shuffle, and judged on frames of roads it never saw.
+//!
+//! The defaults make a student of limited experience, as the competition's DAVE-2 was: 30 roads
+//! no sharper than 0.05/m, 3 epochs (about 1.5 minutes). It fails 8.7% of the 300 reference roads
+//! at the competition's DAVE-2 threshold (BOLP 0.10, 25 km/h), with BOLP near 0 on most others.
+//! A student trained on 240 roads for 6 epochs (29 minutes) copies its teacher so well that it
+//! fails none of them: a search would have nothing to find.
 
 use crate::beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
 use crate::camera::{Camera, CameraParams, Frame, RoadScene};
-use crate::curvature::{CurvatureRoad, MAX_CURVATURE_PER_M};
+use crate::curvature::CurvatureRoad;
 use crate::dave2::{Dave2Trainer, Dave2Weights, FRAME_PIXELS};
 use crate::dave2_inference::Dave2Net;
 use crate::driver::{Driver, Observation};
@@ -59,16 +65,16 @@ pub struct CloningConfig {
 impl Default for CloningConfig {
     fn default() -> Self {
         Self {
-            seed: 0,
-            training_roads: 240,
-            validation_roads: 40,
+            seed: 1,
+            training_roads: 30,
+            validation_roads: 5,
             curvature_points: 5,
-            max_curvature_per_m: MAX_CURVATURE_PER_M,
+            max_curvature_per_m: 0.05,
             speed_kmh: 25.0,
             record_hz: 10.0,
             noise_max_rad: 0.15,
             noise_hold_s: (0.3, 1.2),
-            epochs: 10,
+            epochs: 3,
             batch_size: 64,
             learning_rate: 3e-4,
             time_limit_s: 28.0 * 60.0,
@@ -379,6 +385,7 @@ pub fn train(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::curvature::MAX_CURVATURE_PER_M;
 
     fn tiny() -> CloningConfig {
         CloningConfig {
