@@ -69,9 +69,16 @@ impl JsonLinesWriter {
 
     /// Writes one record and flushes it.
     pub fn write<T: Serialize>(&mut self, record: &T) -> Result<()> {
-        let mut line = serde_json::to_vec(record).context("cannot encode a record as JSON")?;
-        line.push(b'\n');
-        self.out.write_all(&line).context("cannot write output")?;
+        let encoded = serde_json::to_vec(record).context("cannot encode a record as JSON")?;
+        self.write_encoded(encoded)
+    }
+
+    /// Writes one record already encoded as JSON (no newline) and flushes it.
+    pub fn write_encoded(&mut self, mut encoded: Vec<u8>) -> Result<()> {
+        encoded.push(b'\n');
+        self.out
+            .write_all(&encoded)
+            .context("cannot write output")?;
         self.out.flush().context("cannot flush output")
     }
 }

@@ -2,7 +2,7 @@
 //! parse each as a road, answer the roads (in parallel when asked), and write the answers in input
 //! order, each flushed as soon as its chunk is done.
 
-use crate::json_lines::{numbered_lines, ErrorRecord, JsonLinesWriter};
+use crate::json_lines::{numbered_lines, ErrorRecord, InputLine, JsonLinesWriter};
 use crate::Status;
 use anyhow::Result;
 use rayon::prelude::*;
@@ -12,7 +12,7 @@ use std::io::BufRead;
 
 /// Roads answered together before their answers are written: large enough to keep every thread
 /// busy, small enough that results stream.
-const CHUNK_LINES: usize = 64;
+const CHUNK_LINES: usize = 256;
 
 /// Answers every road of `input` with `answer(line_number, road)`; a line that holds no road gets
 /// an `error` record and makes the status [`Status::SomeLinesBad`].
@@ -29,33 +29,38 @@ where
 {
     let mut status = Status::AllRead;
     let mut lines = numbered_lines(input).peekable();
-    while lines.peek().is_some() {
-        let mut chunk = Vec::with_capacity(CHUNK_LINES);
-        for line in lines.by_ref().take(CHUNK_LINES) {
-            let line = line?;
-            let parsed = line
-                .text
-                .and_then(|text| parse_line(&text, map_size_m).map_err(|e| e.to_string()));
-            if !matches!(parsed, Ok(RoadInput::Skip)) {
-                chunk.push((line.number, parsed));
-            }
-        }
-        let run_one = |(number, parsed): &(usize, Result<RoadInput, String>)| {
-            parsed
-                .as_ref()
-                .map(|road| answer(*number, road))
-                .map_err(Clone::clone)
+    // Each line is parsed, answered and encoded by the worker that takes it; only reading and
+    // writing stay on this thread.
+    let run_one = |line: &InputLine| -> Option<Result<Vec<u8>, String>> {
+        let text = match &line.text {
+            Ok(text) => text,
+            Err(error) => return Some(Err(error.clone())),
         };
-        let answers: Vec<Result<R, String>> = match pool {
+        match parse_line(text, map_size_m) {
+            Ok(RoadInput::Skip) => None,
+            Ok(road) => Some(
+                serde_json::to_vec(&answer(line.number, &road))
+                    .map_err(|e| format!("cannot encode the answer: {e}")),
+            ),
+            Err(error) => Some(Err(error.to_string())),
+        }
+    };
+    while lines.peek().is_some() {
+        let chunk = lines
+            .by_ref()
+            .take(CHUNK_LINES)
+            .collect::<Result<Vec<InputLine>, _>>()?;
+        let answers: Vec<Option<Result<Vec<u8>, String>>> = match pool {
             Some(pool) => pool.install(|| chunk.par_iter().map(run_one).collect()),
             None => chunk.iter().map(run_one).collect(),
         };
-        for ((number, _), answer) in chunk.iter().zip(answers) {
+        for (line, answer) in chunk.iter().zip(answers) {
             match answer {
-                Ok(record) => out.write(&record)?,
-                Err(error) => {
+                None => {}
+                Some(Ok(encoded)) => out.write_encoded(encoded)?,
+                Some(Err(error)) => {
                     status = Status::SomeLinesBad;
-                    out.write(&ErrorRecord::new(*number, &error))?;
+                    out.write(&ErrorRecord::new(line.number, &error))?;
                 }
             }
         }

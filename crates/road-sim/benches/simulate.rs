@@ -10,9 +10,13 @@
 //! result; `ROAD_SIM_TRACE=i` prints the trace of road `i` (JSON lines) and stops.
 
 use criterion::Criterion;
+use road_sim::camera::{Camera, CameraParams, RoadScene};
+use road_sim::dave2_inference::Dave2Net;
+use road_sim::driver::embedded_dave2_weights;
 use road_sim::scenario::{calibrate, continuity, deciles, read_roads, CalibrationRoad};
 use road_sim::{simulate_kind, DriverKind, Road, SimConfig};
 use std::hint::black_box;
+use std::time::Instant;
 
 fn reference_roads() -> Vec<CalibrationRoad> {
     let path = concat!(
@@ -134,5 +138,88 @@ fn main() {
             )
         })
     });
+    let dave2_config = SimConfig {
+        speed_limit_kmh: DriverKind::Dave2Proxy.default_speed_limit_kmh(),
+        oob_tolerance: DriverKind::Dave2Proxy.default_oob_tolerance(),
+        ..SimConfig::default()
+    };
+    print_dave2_split(&built, &dave2_config);
+    criterion.bench_function("simulate one roads.jsonl road (dave2-proxy)", |b| {
+        b.iter(|| {
+            next = (next + 1) % built.len();
+            black_box(
+                simulate_kind(
+                    black_box(&built[next]),
+                    DriverKind::Dave2Proxy,
+                    &dave2_config,
+                    false,
+                )
+                .max_bolp,
+            )
+        })
+    });
     criterion.final_summary();
+}
+
+/// Where a `dave2-proxy` drive spends its time: the median road's wall time, split into camera
+/// rendering and network inference (per-frame costs times frames) and the rest (physics, oracle).
+fn print_dave2_split(roads: &[Road], config: &SimConfig) {
+    let results: Vec<_> = roads
+        .iter()
+        .map(|road| simulate_kind(road, DriverKind::Dave2Proxy, config, false))
+        .collect();
+    let mut wall_ms: Vec<f64> = results.iter().map(|r| r.execution_ms).collect();
+    wall_ms.sort_by(f64::total_cmp);
+    let median_ms = wall_ms[wall_ms.len() / 2];
+    let mut sim_s: Vec<f64> = results.iter().map(|r| r.sim_time_s).collect();
+    sim_s.sort_by(f64::total_cmp);
+    let frames = sim_s[sim_s.len() / 2] * config.dave2.control_hz;
+    let camera = Camera::new(CameraParams::default());
+    let scene = RoadScene::new(&roads[0]);
+    let mut net = Dave2Net::new(&embedded_dave2_weights());
+    let (pose, heading) = road_sim::simulation::start_pose(&roads[0], 10.0);
+    let repeats = 300;
+    let started = Instant::now();
+    let mut frame = camera.render(&scene, pose, heading);
+    for _ in 0..repeats {
+        camera.render_into(&scene, pose, heading, &mut frame);
+    }
+    let render_ms = started.elapsed().as_secs_f64() * 1e3 / repeats as f64;
+    let started = Instant::now();
+    let mut steering = 0.0;
+    for _ in 0..repeats {
+        steering += net.predict(black_box(&frame.data));
+    }
+    black_box(steering);
+    let inference_ms = started.elapsed().as_secs_f64() * 1e3 / repeats as f64;
+    let failures = results
+        .iter()
+        .filter(|r| r.outcome == road_sim::Outcome::Fail)
+        .count();
+    println!(
+        "dave2-proxy on {} roads (speed limit {} km/h, oob tolerance {}):",
+        roads.len(),
+        config.speed_limit_kmh,
+        config.oob_tolerance
+    );
+    println!(
+        "  failure rate            {:.1}%",
+        100.0 * failures as f64 / roads.len() as f64
+    );
+    println!(
+        "  median ms per road      {median_ms:.1} ({frames:.0} frames at {} Hz)",
+        config.dave2.control_hz
+    );
+    println!(
+        "  rendering               {:.1} ms ({render_ms:.3} ms per frame)",
+        render_ms * frames
+    );
+    println!(
+        "  inference               {:.1} ms ({inference_ms:.3} ms per frame)",
+        inference_ms * frames
+    );
+    println!(
+        "  physics, oracle, rest   {:.1} ms",
+        median_ms - (render_ms + inference_ms) * frames
+    );
 }
