@@ -24,7 +24,7 @@ pub fn answer_each_road<R, F>(
     answer: F,
 ) -> Result<Status>
 where
-    R: Serialize + Send,
+    R: Serialize,
     F: Fn(usize, &RoadInput) -> R + Sync,
 {
     let mut status = Status::AllRead;

@@ -13,7 +13,7 @@
 //! pass lets the car brake at `g * (brake_base + brake_per_aggression * aggression)` in time for
 //! each corner. A proportional controller turns the speed error into throttle or brake.
 
-use crate::driver::{Driver, Observation};
+use crate::driver::{pedals, Driver, Observation};
 use crate::polyline;
 use crate::road::Road;
 use crate::vehicle::{Command, VehicleParams};
@@ -203,17 +203,12 @@ impl Driver for BeamNgAiProxy {
         // Speed: read the plan a little ahead and follow it.
         let (_, plan_index) = self.point_at(s + speed * p.speed_preview_s, self.segment);
         let target_speed = self.plan_mps[plan_index + 1].min(self.plan_mps[plan_index]);
-        let error = target_speed - speed;
-        let (throttle, brake) = if error >= 0.0 {
-            ((p.throttle_gain * error).min(1.0), 0.0)
-        } else if -error > p.brake_deadband_mps {
-            (
-                0.0,
-                (p.brake_gain * (-error - p.brake_deadband_mps)).min(1.0),
-            )
-        } else {
-            (0.0, 0.0)
-        };
+        let (throttle, brake) = pedals(
+            target_speed - speed,
+            p.throttle_gain,
+            p.brake_gain,
+            p.brake_deadband_mps,
+        );
         // Steering: pure pursuit from the rear axle.
         let (sin_h, cos_h) = car.heading_rad.sin_cos();
         let rear = [

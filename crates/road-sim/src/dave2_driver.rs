@@ -8,7 +8,7 @@
 use crate::camera::{Camera, CameraParams, Frame, RoadScene};
 use crate::dave2::{Dave2Weights, WeightsError};
 use crate::dave2_inference::Dave2Net;
-use crate::driver::{Driver, Observation};
+use crate::driver::{pedals, Driver, Observation};
 use crate::road::Road;
 use crate::vehicle::{Command, VehicleParams};
 use serde::{Deserialize, Serialize};
@@ -115,17 +115,12 @@ impl Driver for Dave2Driver {
             0.0
         };
         let p = &self.params;
-        let error = self.target_mps - car.speed_mps;
-        let (throttle, brake) = if error >= 0.0 {
-            ((p.throttle_gain * error).min(1.0), 0.0)
-        } else if -error > p.brake_deadband_mps {
-            (
-                0.0,
-                (p.brake_gain * (-error - p.brake_deadband_mps)).min(1.0),
-            )
-        } else {
-            (0.0, 0.0)
-        };
+        let (throttle, brake) = pedals(
+            self.target_mps - car.speed_mps,
+            p.throttle_gain,
+            p.brake_gain,
+            p.brake_deadband_mps,
+        );
         Command {
             steering_rad: steer * self.max_steering_rad,
             throttle,
