@@ -30,8 +30,12 @@ pub struct MapRoad<'a> {
     pub road_points: &'a [Point],
 }
 
+/// Beyond this many roads the map leaves out their labels, which would only pile up.
+pub const MAX_LABELLED_ROADS: usize = 30;
+
 /// Draws every road on a `map_size_m` square map: the road surface between its edges (one
-/// `<polygon>` per road), the centre line, a start marker and the road's label at the end.
+/// `<polygon>` per road), the centre line, a start marker and, for up to
+/// [`MAX_LABELLED_ROADS`] roads, the road's label at the end.
 /// Roads whose geometry cannot be built are skipped; returns how many were drawn.
 pub fn roads_svg(path: &Path, title: &str, roads: &[MapRoad], map_size_m: f64) -> Result<usize> {
     let err = plot_error(path);
@@ -53,6 +57,7 @@ pub fn roads_svg(path: &Path, title: &str, roads: &[MapRoad], map_size_m: f64) -
         .y_desc("y (m)")
         .draw()
         .map_err(&err)?;
+    let labelled = roads.len() <= MAX_LABELLED_ROADS;
     let mut drawn = 0;
     for (i, road) in roads.iter().enumerate() {
         let Ok(geometry) = Road::new(road.road_points) else {
@@ -79,8 +84,10 @@ pub fn roads_svg(path: &Path, title: &str, roads: &[MapRoad], map_size_m: f64) -
             chart
                 .draw_series(std::iter::once(Circle::new(start, 5, BLACK.filled())))
                 .map_err(&err)?;
-            let label = Text::new(road.label.clone(), end, ("sans-serif", 13));
-            chart.draw_series(std::iter::once(label)).map_err(&err)?;
+            if labelled {
+                let label = Text::new(road.label.clone(), end, ("sans-serif", 13));
+                chart.draw_series(std::iter::once(label)).map_err(&err)?;
+            }
         }
         drawn += 1;
     }
@@ -251,5 +258,29 @@ mod tests {
         assert_eq!(counts[0], 3);
         assert_eq!(counts[1], 1);
         assert_eq!(counts[19], 3);
+    }
+
+    #[test]
+    fn road_labels_are_left_out_of_crowded_maps() {
+        let points: Vec<Point> = (0..6).map(|i| [50.0, 20.0 + 15.0 * f64::from(i)]).collect();
+        let dir = std::env::temp_dir().join(format!("wogan-plots-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for count in [MAX_LABELLED_ROADS, MAX_LABELLED_ROADS + 1] {
+            let roads: Vec<MapRoad> = (0..count)
+                .map(|i| MapRoad {
+                    label: format!("road-{i}"),
+                    road_points: &points,
+                })
+                .collect();
+            let path = dir.join(format!("roads-{count}.svg"));
+            assert_eq!(roads_svg(&path, "map", &roads, 200.0).unwrap(), count);
+            let svg = std::fs::read_to_string(&path).unwrap();
+            assert_eq!(
+                svg.contains("road-0"),
+                count <= MAX_LABELLED_ROADS,
+                "{count} roads"
+            );
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
