@@ -221,6 +221,37 @@ fn a_dave2_proxy_run_searches_the_distance_fitness() {
 }
 
 #[test]
+fn bolp_fitness_is_the_papers_and_bolp_scaled_divides_by_the_tolerance() {
+    for (fitness, tolerance) in [("bolp", 1.0), ("bolp-scaled", 0.3)] {
+        let tolerance_arg = tolerance.to_string();
+        let (code, records) = run(&[
+            "--algorithm",
+            "random",
+            "--max-tests",
+            "20",
+            "--seed",
+            "5",
+            "--fitness",
+            fitness,
+            "--oob-tolerance",
+            &tolerance_arg,
+        ]);
+        assert_eq!(code, Some(0));
+        assert_eq!(records[0]["fitness"], fitness);
+        let tests = of_type(&records, "test");
+        assert!(tests.iter().any(|t| t["max_bolp"].as_f64().unwrap() > 0.01));
+        for test in tests {
+            let expected = (test["max_bolp"].as_f64().unwrap() / tolerance).min(1.0);
+            let got = test["fitness"].as_f64().unwrap();
+            assert!(
+                (got - expected).abs() <= 1e-12 * expected,
+                "{fitness}: {test}"
+            );
+        }
+    }
+}
+
+#[test]
 fn driver_weights_must_be_dave2_weights() {
     let dir = std::env::temp_dir().join(format!("wogan-weights-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -13,10 +13,13 @@ use wogan_core::{Execution, Sut};
 
 /// Which simulator figure the search maximises.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
+#[serde(rename_all = "kebab-case")]
 pub enum FitnessKind {
-    /// `min(1, max_bolp / oob_tolerance)`: 1 exactly when the drive fails.
+    /// The paper's fitness: the drive's maximum BOLP.
     Bolp,
+    /// `min(1, max_bolp / oob_tolerance)`: 1 exactly when the drive fails, so that a small
+    /// tolerance (DAVE-2's 0.10) still spreads BOLP over `[0, 1]`.
+    BolpScaled,
     /// The simulator's `fitness_distance`, informative even when BOLP stays 0.
     Distance,
 }
@@ -63,10 +66,11 @@ impl RoadSut {
     /// The fitness of a drive, in `[0, 1]`.
     pub fn fitness_of(&self, result: &SimResult) -> f64 {
         match self.fitness {
-            FitnessKind::Bolp if self.sim.oob_tolerance > 0.0 => {
+            FitnessKind::Bolp => result.max_bolp.clamp(0.0, 1.0),
+            FitnessKind::BolpScaled if self.sim.oob_tolerance > 0.0 => {
                 (result.max_bolp / self.sim.oob_tolerance).min(1.0)
             }
-            FitnessKind::Bolp => f64::from(u8::from(result.outcome == Outcome::Fail)),
+            FitnessKind::BolpScaled => f64::from(u8::from(result.outcome == Outcome::Fail)),
             FitnessKind::Distance => result.fitness_distance,
         }
     }
