@@ -14,7 +14,7 @@
 //! failures in 300 tests where WOGAN finds 28.
 //!
 //! Measured alternatives (failures on the 300 reference roads): the earlier default of 30 roads up
-//! to 0.05/m for 3 epochs, 8.7% with a graded BOLP on 30% of roads; 240 roads for 6 epochs, none.
+//! to 0.05/m for 3 epochs, 8.7% with a graded BOLP on 16% of roads; 240 roads for 6 epochs, none.
 //! A teacher with a short look-ahead (3 m + 0.4 s), which holds the lane centre instead of
 //! cutting corners, makes students whose BOLP is 0 until they fail: 60 roads up to 0.026/m fail
 //! 4.3%, up to 0.022/m 28%, up to 0.015/m 50%, 120 roads up to 0.03/m none. Such abrupt failures
