@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::wogan;
+use common::{wogan, wogan_ok};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -52,10 +52,10 @@ fn texts(path: &Path) -> Vec<String> {
         .collect()
 }
 
-#[test]
-fn report_numbers_match_hand_computation() {
-    let out = scratch("numbers");
-    let output = wogan(
+/// Reports the WOGAN fixture runs of seeds 3 and 4 into a fresh scratch directory `name`.
+fn report_of_seeds_3_and_4(name: &str) -> PathBuf {
+    let out = scratch(name);
+    wogan_ok(
         &[
             "report",
             &fixture("wogan.seed3.jsonl"),
@@ -65,12 +65,12 @@ fn report_numbers_match_hand_computation() {
         ],
         "",
     );
-    assert_eq!(
-        output.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    out
+}
+
+#[test]
+fn report_numbers_match_hand_computation() {
+    let out = report_of_seeds_3_and_4("numbers");
     let report = read(&out.join("report.md"));
     assert_eq!(report.matches("## Group ").count(), 1, "{report}");
     assert!(
@@ -117,23 +117,7 @@ fn report_numbers_match_hand_computation() {
 
 #[test]
 fn svgs_parse_and_draw_one_road_per_failing_test() {
-    let out = scratch("svgs");
-    let output = wogan(
-        &[
-            "report",
-            &fixture("wogan.seed3.jsonl"),
-            &fixture("wogan.seed4.jsonl"),
-            "--out",
-            path_str(&out),
-        ],
-        "",
-    );
-    assert_eq!(
-        output.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let out = report_of_seeds_3_and_4("svgs");
     // One road surface polygon per failing test (5 + 1), labelled by its test id.
     assert_eq!(count_elements(&out.join("roads.g1.svg"), "polygon"), 6);
     let labels = texts(&out.join("roads.g1.svg"));
@@ -159,15 +143,14 @@ fn groups_by_configuration_and_compares_with_vs() {
     let mut args: Vec<&str> = vec!["report"];
     args.extend(runs.iter().map(String::as_str));
     args.extend(["--out", path_str(&out)]);
-    let output = wogan(&args, "");
-    assert_eq!(output.status.code(), Some(0));
+    wogan_ok(&args, "");
     let report = read(&out.join("report.md"));
     assert_eq!(report.matches("## Group ").count(), 2, "{report}");
     assert!(report.contains("## Group 1: random /"), "{report}");
     assert!(report.contains("## Group 2: wogan /"), "{report}");
 
     let out = scratch("vs");
-    let output = wogan(
+    wogan_ok(
         &[
             "report",
             &fixture("wogan.seed3.jsonl"),
@@ -179,12 +162,6 @@ fn groups_by_configuration_and_compares_with_vs() {
             path_str(&out),
         ],
         "",
-    );
-    assert_eq!(
-        output.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
     );
     let report = read(&out.join("report.md"));
     // Failures [5, 1] vs [2, 2]: midranks 4, 1 vs 2.5, 2.5; R1 = 5, U1 = 2; every split of the
@@ -253,7 +230,7 @@ fn bad_usage_gives_status_2() {
 #[test]
 fn export_writes_the_competition_layout_and_round_trips_through_validate() {
     let out = scratch("export");
-    let output = wogan(
+    wogan_ok(
         &[
             "export",
             "--format",
@@ -262,12 +239,6 @@ fn export_writes_the_competition_layout_and_round_trips_through_validate() {
             path_str(&out),
         ],
         "",
-    );
-    assert_eq!(
-        output.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
     );
     let csv = read(&out.join("generation_stats.csv"));
     let rows: Vec<&str> = csv.lines().collect();
@@ -308,13 +279,7 @@ fn export_writes_the_competition_layout_and_round_trips_through_validate() {
     }
     assert!(!out.join("test.0031.json").exists());
     let input: Vec<String> = objects.iter().map(Value::to_string).collect();
-    let output = wogan(&["validate"], &input.join("\n"));
-    assert_eq!(
-        output.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let output = wogan_ok(&["validate"], &input.join("\n"));
     let verdicts: Vec<Value> = String::from_utf8_lossy(&output.stdout)
         .lines()
         .map(|l| serde_json::from_str(l).expect("a verdict"))
@@ -334,15 +299,9 @@ fn trace_picture_draws_path_bolp_and_speed() {
         .find(|l| l.contains(r#""outcome":"FAIL""#))
         .expect("a failing test");
     let trace_dir = out.join("traces");
-    let output = wogan(&["simulate", "--trace", path_str(&trace_dir)], failing);
-    assert_eq!(
-        output.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    wogan_ok(&["simulate", "--trace", path_str(&trace_dir)], failing);
     let trace = trace_dir.join("trace.1.jsonl");
-    let output = wogan(
+    wogan_ok(
         &[
             "report",
             "--trace",
@@ -351,12 +310,6 @@ fn trace_picture_draws_path_bolp_and_speed() {
             path_str(&out),
         ],
         "",
-    );
-    assert_eq!(
-        output.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
     );
     let svg = out.join("trace.svg");
     assert_eq!(count_elements(&svg, "polygon"), 1);

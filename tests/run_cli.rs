@@ -1,21 +1,18 @@
 //! End-to-end tests of `wogan run`.
 
+mod common;
+
+use common::{records, wogan};
 use road_sim::Validator;
 use serde_json::Value;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 
+/// Runs `wogan run ARGS`: its exit status and JSON lines.
 fn run(args: &[&str]) -> (Option<i32>, Vec<Value>) {
-    let output = Command::new(env!("CARGO_BIN_EXE_wogan"))
-        .arg("run")
-        .args(args)
-        .output()
-        .expect("wogan starts");
-    let records = String::from_utf8_lossy(&output.stdout)
-        .lines()
-        .map(|l| serde_json::from_str(l).expect("every output line is JSON"))
-        .collect();
-    (output.status.code(), records)
+    let args: Vec<&str> = std::iter::once("run").chain(args.iter().copied()).collect();
+    let output = wogan(&args, "");
+    (output.status.code(), records(&output))
 }
 
 fn of_type<'a>(records: &'a [Value], kind: &str) -> Vec<&'a Value> {
@@ -32,14 +29,15 @@ fn deterministic_part(test: &Value) -> Value {
 }
 
 fn check_run(algorithm: &str) {
-    let (code, records) = run(&[
+    let args = [
         "--algorithm",
         algorithm,
         "--max-tests",
         "30",
         "--seed",
         "11",
-    ]);
+    ];
+    let (code, records) = run(&args);
     assert_eq!(code, Some(0));
     assert_eq!(records[0]["type"], "header");
     assert_eq!(records[0]["algorithm"], algorithm);
@@ -65,14 +63,7 @@ fn check_run(algorithm: &str) {
     let failed = tests.iter().filter(|t| t["outcome"] == "FAIL").count();
     assert_eq!(summary["failed"], failed);
 
-    let (_, again) = run(&[
-        "--algorithm",
-        algorithm,
-        "--max-tests",
-        "30",
-        "--seed",
-        "11",
-    ]);
+    let (_, again) = run(&args);
     let again = of_type(&again, "test");
     for (a, b) in tests.iter().zip(&again) {
         assert_eq!(
@@ -176,10 +167,7 @@ fn a_config_file_overrides_the_defaults_and_typos_are_named() {
 
     let typo = dir.join("typo.json");
     std::fs::write(&typo, r#"{"search": {"wogan": {"analyser": {}}}}"#).unwrap();
-    let output = Command::new(env!("CARGO_BIN_EXE_wogan"))
-        .args(["run", "--config", typo.to_str().unwrap()])
-        .output()
-        .unwrap();
+    let output = wogan(&["run", "--config", typo.to_str().unwrap()], "");
     assert_eq!(output.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&output.stderr).contains("analyser"));
     assert!(output.stdout.is_empty());

@@ -25,6 +25,18 @@ pub fn wogan(args: &[&str], stdin: &str) -> Output {
     child.wait_with_output().expect("wogan ends")
 }
 
+/// Runs `wogan ARGS` like [`wogan`] and asserts that it succeeded, showing its standard error if not.
+pub fn wogan_ok(args: &[&str], stdin: &str) -> Output {
+    let output = wogan(args, stdin);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "wogan {args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
 /// The JSON lines a command wrote to standard output.
 pub fn records(output: &Output) -> Vec<Value> {
     String::from_utf8_lossy(&output.stdout)

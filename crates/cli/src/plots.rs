@@ -3,6 +3,7 @@
 
 use crate::report::run_file::TestRecord;
 use anyhow::{anyhow, Result};
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use road_sim::{Point, Road};
 use std::path::Path;
@@ -13,13 +14,34 @@ pub const BOLP_BIN_WIDTH: f64 = 0.05;
 const CAPTION: (&str, u32) = ("sans-serif", 20);
 
 /// Turns a plotting error (which borrows nothing worth keeping) into an `anyhow` error.
-fn plot_error<E: std::fmt::Display>(path: &Path) -> impl Fn(E) -> anyhow::Error + '_ {
+pub(crate) fn plot_error<E: std::fmt::Display>(path: &Path) -> impl Fn(E) -> anyhow::Error + '_ {
     move |e| anyhow!("cannot draw {}: {e}", path.display())
 }
 
 /// An axis label without decimals.
 pub fn whole(value: &f64) -> String {
     format!("{value:.0}")
+}
+
+/// The road surface as one polygon: the left edge, then the right edge backwards.
+pub fn road_outline(road: &Road) -> Vec<(f64, f64)> {
+    let mut outline: Vec<(f64, f64)> = road.left_edge().iter().map(|p| (p[0], p[1])).collect();
+    outline.extend(road.right_edge().iter().rev().map(|p| (p[0], p[1])));
+    outline
+}
+
+/// Draws a map's mesh: whole-metre labels, no light lines.
+pub fn draw_map_mesh<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    chart
+        .configure_mesh()
+        .max_light_lines(0)
+        .x_label_formatter(&whole)
+        .y_label_formatter(&whole)
+        .x_desc("x (m)")
+        .y_desc("y (m)")
+        .draw()
 }
 
 /// A failing road to draw: its label and defining points.
@@ -48,15 +70,7 @@ pub fn roads_svg(path: &Path, title: &str, roads: &[MapRoad], map_size_m: f64) -
         .y_label_area_size(50)
         .build_cartesian_2d(0.0..map_size_m, 0.0..map_size_m)
         .map_err(&err)?;
-    chart
-        .configure_mesh()
-        .max_light_lines(0)
-        .x_label_formatter(&whole)
-        .y_label_formatter(&whole)
-        .x_desc("x (m)")
-        .y_desc("y (m)")
-        .draw()
-        .map_err(&err)?;
+    draw_map_mesh(&mut chart).map_err(&err)?;
     let labelled = roads.len() <= MAX_LABELLED_ROADS;
     let mut drawn = 0;
     for (i, road) in roads.iter().enumerate() {
@@ -64,13 +78,10 @@ pub fn roads_svg(path: &Path, title: &str, roads: &[MapRoad], map_size_m: f64) -
             continue;
         };
         let colour = Palette99::pick(i).to_rgba();
-        let mut surface: Vec<(f64, f64)> =
-            geometry.left_edge().iter().map(|p| (p[0], p[1])).collect();
-        surface.extend(geometry.right_edge().iter().rev().map(|p| (p[0], p[1])));
         let centre: Vec<(f64, f64)> = geometry.interpolated.iter().map(|p| (p[0], p[1])).collect();
         chart
             .draw_series(std::iter::once(Polygon::new(
-                surface,
+                road_outline(&geometry),
                 colour.mix(0.3).filled(),
             )))
             .map_err(&err)?;

@@ -2,7 +2,7 @@
 //! (coloured by BOLP), and BOLP and speed over time, in one SVG.
 
 use crate::json_lines::{numbered_lines, open_input};
-use crate::plots::whole;
+use crate::plots::{draw_map_mesh, plot_error, road_outline};
 use anyhow::{anyhow, Result};
 use plotters::prelude::*;
 use road_sim::{Point, Road};
@@ -92,28 +92,24 @@ fn bolp_colour(bolp: f64) -> RGBColor {
 /// Draws `trace` to `path`: the map panel (road surface, centre line, start marker, car path
 /// coloured by BOLP) on the left, BOLP over time and speed over time on the right.
 pub fn trace_svg(path: &Path, title: &str, trace: &Trace) -> Result<()> {
-    let err =
-        |e: DrawingAreaErrorKind<std::io::Error>| anyhow!("cannot draw {}: {e}", path.display());
+    let err = plot_error(path);
     let road = Road::new(&trace.road_points)
         .map_err(|e| anyhow!("the trace's road cannot be built: {e}"))?;
     let root = SVGBackend::new(path, (1300, 650)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
-    let root = root.titled(title, ("sans-serif", 22)).map_err(err)?;
+    root.fill(&WHITE).map_err(&err)?;
+    let root = root.titled(title, ("sans-serif", 22)).map_err(&err)?;
     let (map_area, right) = root.split_horizontally(640);
     let (bolp_area, speed_area) = right.split_vertically(300);
 
     // Map panel: a square window around the road and the path.
-    let left = road.left_edge();
-    let right_edge = road.right_edge();
-    let all_x = left
+    let outline = road_outline(&road);
+    let all_x = outline
         .iter()
-        .chain(&right_edge)
-        .map(|p| p[0])
+        .map(|p| p.0)
         .chain(trace.samples.iter().map(|s| s.x));
-    let all_y = left
+    let all_y = outline
         .iter()
-        .chain(&right_edge)
-        .map(|p| p[1])
+        .map(|p| p.1)
         .chain(trace.samples.iter().map(|s| s.y));
     let (x_min, x_max) = all_x.fold((f64::MAX, f64::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
     let (y_min, y_max) = all_y.fold((f64::MAX, f64::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
@@ -131,32 +127,23 @@ pub fn trace_svg(path: &Path, title: &str, trace: &Trace) -> Result<()> {
             cx - side / 2.0..cx + side / 2.0,
             cy - side / 2.0..cy + side / 2.0,
         )
-        .map_err(err)?;
-    map.configure_mesh()
-        .max_light_lines(0)
-        .x_label_formatter(&whole)
-        .y_label_formatter(&whole)
-        .x_desc("x (m)")
-        .y_desc("y (m)")
-        .draw()
-        .map_err(err)?;
-    let mut surface: Vec<(f64, f64)> = left.iter().map(|p| (p[0], p[1])).collect();
-    surface.extend(right_edge.iter().rev().map(|p| (p[0], p[1])));
+        .map_err(&err)?;
+    draw_map_mesh(&mut map).map_err(&err)?;
     map.draw_series(std::iter::once(Polygon::new(
-        surface,
+        outline,
         RGBColor(190, 190, 190).filled(),
     )))
-    .map_err(err)?;
+    .map_err(&err)?;
     let centre = road.interpolated.iter().map(|p| (p[0], p[1]));
     map.draw_series(LineSeries::new(centre, WHITE.stroke_width(2)))
-        .map_err(err)?;
+        .map_err(&err)?;
     if let Some(start) = road.interpolated.first() {
         map.draw_series(std::iter::once(Circle::new(
             (start[0], start[1]),
             6,
             BLACK.filled(),
         )))
-        .map_err(err)?;
+        .map_err(&err)?;
     }
     let segments = trace.samples.windows(2).map(|w| {
         PathElement::new(
@@ -164,7 +151,7 @@ pub fn trace_svg(path: &Path, title: &str, trace: &Trace) -> Result<()> {
             bolp_colour(w[1].bolp).stroke_width(3),
         )
     });
-    map.draw_series(segments).map_err(err)?;
+    map.draw_series(segments).map_err(&err)?;
 
     let end_s = trace.samples.last().map_or(1.0, |s| s.t).max(1e-3);
     let mut bolp = ChartBuilder::on(&bolp_area)
@@ -173,18 +160,18 @@ pub fn trace_svg(path: &Path, title: &str, trace: &Trace) -> Result<()> {
         .x_label_area_size(35)
         .y_label_area_size(45)
         .build_cartesian_2d(0.0..end_s, 0.0..1.05)
-        .map_err(err)?;
+        .map_err(&err)?;
     bolp.configure_mesh()
         .max_light_lines(0)
         .x_desc("t (s)")
         .y_desc("BOLP")
         .draw()
-        .map_err(err)?;
+        .map_err(&err)?;
     bolp.draw_series(LineSeries::new(
         trace.samples.iter().map(|s| (s.t, s.bolp)),
         RED.stroke_width(2),
     ))
-    .map_err(err)?;
+    .map_err(&err)?;
 
     let top_kmh = trace
         .samples
@@ -198,20 +185,20 @@ pub fn trace_svg(path: &Path, title: &str, trace: &Trace) -> Result<()> {
         .x_label_area_size(35)
         .y_label_area_size(45)
         .build_cartesian_2d(0.0..end_s, 0.0..top_kmh)
-        .map_err(err)?;
+        .map_err(&err)?;
     speed
         .configure_mesh()
         .max_light_lines(0)
         .x_desc("t (s)")
         .y_desc("speed (km/h)")
         .draw()
-        .map_err(err)?;
+        .map_err(&err)?;
     speed
         .draw_series(LineSeries::new(
             trace.samples.iter().map(|s| (s.t, s.speed_kmh)),
             BLUE.stroke_width(2),
         ))
-        .map_err(err)?;
-    root.present().map_err(err)?;
+        .map_err(&err)?;
+    root.present().map_err(&err)?;
     Ok(())
 }

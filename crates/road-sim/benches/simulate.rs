@@ -123,41 +123,25 @@ fn main() {
         .filter_map(|r| Road::new(&r.road_points).ok())
         .collect();
     let mut criterion = Criterion::default().configure_from_args().sample_size(30);
-    let mut next = 0;
-    criterion.bench_function("simulate one roads.jsonl road (beamng-ai-proxy)", |b| {
-        b.iter(|| {
-            next = (next + 1) % built.len();
-            black_box(
-                simulate_kind(
-                    black_box(&built[next]),
-                    DriverKind::BeamNgAiProxy,
-                    &config,
-                    false,
-                )
-                .max_bolp,
-            )
-        })
-    });
     let dave2_config = SimConfig {
         speed_limit_kmh: DriverKind::Dave2Proxy.default_speed_limit_kmh(),
         oob_tolerance: DriverKind::Dave2Proxy.default_oob_tolerance(),
         ..SimConfig::default()
     };
     print_dave2_split(&built, &dave2_config);
-    criterion.bench_function("simulate one roads.jsonl road (dave2-proxy)", |b| {
-        b.iter(|| {
-            next = (next + 1) % built.len();
-            black_box(
-                simulate_kind(
-                    black_box(&built[next]),
-                    DriverKind::Dave2Proxy,
-                    &dave2_config,
-                    false,
-                )
-                .max_bolp,
-            )
-        })
-    });
+    let mut next = 0;
+    for (kind, config) in [
+        (DriverKind::BeamNgAiProxy, &config),
+        (DriverKind::Dave2Proxy, &dave2_config),
+    ] {
+        let name = format!("simulate one roads.jsonl road ({})", kind.name());
+        criterion.bench_function(&name, |b| {
+            b.iter(|| {
+                next = (next + 1) % built.len();
+                black_box(simulate_kind(black_box(&built[next]), kind, config, false).max_bolp)
+            })
+        });
+    }
     criterion.final_summary();
 }
 

@@ -394,26 +394,36 @@ mod tests {
         }
     }
 
+    /// A driver that ignores the road: `act` decides each command from the observation alone.
+    struct Scripted {
+        control_hz: f64,
+        act: fn(&Observation<'_>) -> Command,
+    }
+
+    impl Driver for Scripted {
+        fn name(&self) -> &'static str {
+            "scripted"
+        }
+        fn control_hz(&self) -> f64 {
+            self.control_hz
+        }
+        fn reset(&mut self, _: &Road, _: &VehicleParams, _: f64) {}
+        fn act(&mut self, observation: &Observation<'_>) -> Command {
+            (self.act)(observation)
+        }
+    }
+
     #[test]
     fn a_car_that_will_not_drive_fails_not_moving() {
-        struct Parked;
-        impl Driver for Parked {
-            fn name(&self) -> &'static str {
-                "parked"
-            }
-            fn control_hz(&self) -> f64 {
-                10.0
-            }
-            fn reset(&mut self, _: &Road, _: &VehicleParams, _: f64) {}
-            fn act(&mut self, _: &Observation<'_>) -> Command {
-                Command {
-                    brake: 1.0,
-                    ..Command::default()
-                }
-            }
-        }
+        let mut parked = Scripted {
+            control_hz: 10.0,
+            act: |_| Command {
+                brake: 1.0,
+                ..Command::default()
+            },
+        };
         let road = Road::new(&[[0.0, 0.0], [0.0, 100.0]]).unwrap();
-        let r = simulate(&road, &mut Parked, &SimConfig::default(), false);
+        let r = simulate(&road, &mut parked, &SimConfig::default(), false);
         assert_eq!(
             (r.outcome, r.reason.as_deref()),
             (Outcome::Fail, Some(reason::NOT_MOVING))
@@ -424,26 +434,16 @@ mod tests {
 
     #[test]
     fn a_non_finite_command_is_an_error() {
-        struct Broken;
-        impl Driver for Broken {
-            fn name(&self) -> &'static str {
-                "broken"
-            }
-            fn control_hz(&self) -> f64 {
-                20.0
-            }
-            fn reset(&mut self, _: &Road, _: &VehicleParams, _: f64) {}
-            fn act(&mut self, o: &Observation<'_>) -> Command {
-                let steering_rad = if o.time_s > 1.0 { f64::NAN } else { 0.0 };
-                Command {
-                    steering_rad,
-                    throttle: 0.5,
-                    brake: 0.0,
-                }
-            }
-        }
+        let mut broken = Scripted {
+            control_hz: 20.0,
+            act: |o| Command {
+                steering_rad: if o.time_s > 1.0 { f64::NAN } else { 0.0 },
+                throttle: 0.5,
+                brake: 0.0,
+            },
+        };
         let road = Road::new(&[[0.0, 0.0], [0.0, 100.0], [0.0, 200.0]]).unwrap();
-        let r = simulate(&road, &mut Broken, &SimConfig::default(), false);
+        let r = simulate(&road, &mut broken, &SimConfig::default(), false);
         assert_eq!(
             (r.outcome, r.reason.as_deref()),
             (Outcome::Error, Some(reason::NON_FINITE_COMMAND))
@@ -454,25 +454,16 @@ mod tests {
 
     #[test]
     fn steering_off_the_road_fails_out_of_lane() {
-        struct Swerve;
-        impl Driver for Swerve {
-            fn name(&self) -> &'static str {
-                "swerve"
-            }
-            fn control_hz(&self) -> f64 {
-                20.0
-            }
-            fn reset(&mut self, _: &Road, _: &VehicleParams, _: f64) {}
-            fn act(&mut self, _: &Observation<'_>) -> Command {
-                Command {
-                    steering_rad: -0.3,
-                    throttle: 0.5,
-                    brake: 0.0,
-                }
-            }
-        }
+        let mut swerve = Scripted {
+            control_hz: 20.0,
+            act: |_| Command {
+                steering_rad: -0.3,
+                throttle: 0.5,
+                brake: 0.0,
+            },
+        };
         let road = Road::new(&[[0.0, 0.0], [0.0, 100.0], [0.0, 200.0]]).unwrap();
-        let r = simulate(&road, &mut Swerve, &SimConfig::default(), false);
+        let r = simulate(&road, &mut swerve, &SimConfig::default(), false);
         assert_eq!(
             (r.outcome, r.reason.as_deref()),
             (Outcome::Fail, Some(reason::OUT_OF_LANE))
