@@ -5,6 +5,7 @@
 //! flushed as soon as known; progress and logs go to stderr.
 
 mod camera;
+mod config_file;
 mod export;
 mod json_lines;
 mod plots;

@@ -1,6 +1,7 @@
 //! `wogan run`: search for roads that push the driver out of its lane, streaming one JSON line per
 //! executed test, per training round, and a final summary.
 
+use crate::config_file;
 use crate::json_lines::JsonLinesWriter;
 use crate::road_sut::{FitnessKind, RoadExecution, RoadSut};
 use crate::sim_options::SimOptions;
@@ -71,43 +72,6 @@ pub struct RunArgs {
 struct ConfigFile {
     search: Option<serde_json::Value>,
     sim: Option<serde_json::Value>,
-}
-
-impl ConfigFile {
-    fn read(path: &std::path::Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read config file {}", path.display()))?;
-        serde_json::from_str(&text).with_context(|| format!("config file {}", path.display()))
-    }
-
-    /// `defaults` with the file's `section` laid over them, field by field.
-    fn over<T: Serialize + serde::de::DeserializeOwned>(
-        section: &Option<serde_json::Value>,
-        defaults: T,
-        name: &str,
-    ) -> Result<T> {
-        let Some(patch) = section else {
-            return Ok(defaults);
-        };
-        let mut merged = serde_json::to_value(defaults).context("cannot encode the defaults")?;
-        merge(&mut merged, patch);
-        serde_json::from_value(merged).with_context(|| format!("config file, \"{name}\""))
-    }
-}
-
-/// Lays `patch` over `base`: objects merge key by key, anything else replaces.
-fn merge(base: &mut serde_json::Value, patch: &serde_json::Value) {
-    match (base, patch) {
-        (serde_json::Value::Object(base), serde_json::Value::Object(patch)) => {
-            for (key, value) in patch {
-                merge(
-                    base.entry(key.clone()).or_insert(serde_json::Value::Null),
-                    value,
-                );
-            }
-        }
-        (base, patch) => *base = patch.clone(),
-    }
 }
 
 /// `--algorithm` values.
@@ -202,13 +166,13 @@ pub fn run(args: &RunArgs) -> Result<Status> {
             .context("cannot install the Ctrl-C handler")?;
     }
     let file = match &args.config {
-        Some(path) => ConfigFile::read(path)?,
+        Some(path) => config_file::read::<ConfigFile>(path)?,
         None => ConfigFile::default(),
     };
-    let sim = args.sim.apply_to(ConfigFile::over(
-        &file.sim,
+    let sim = args.sim.apply_to(config_file::lay_over(
+        file.sim.as_ref(),
         args.sim.driver_defaults(),
-        "sim",
+        "\"sim\"",
     )?);
     let fitness = args
         .fitness
@@ -223,7 +187,7 @@ pub fn run(args: &RunArgs) -> Result<Status> {
             AlgorithmArg::Random => Algorithm::Random,
         },
         jobs: args.jobs as usize,
-        ..ConfigFile::over(&file.search, RunConfig::default(), "search")?
+        ..config_file::lay_over(file.search.as_ref(), RunConfig::default(), "\"search\"")?
     };
     if let Some(init_fraction) = args.init_fraction {
         search.wogan.init_fraction = init_fraction;

@@ -1,5 +1,6 @@
 //! `wogan train-driver`: behaviour cloning of `dave2-proxy` from the `beamng-ai-proxy` teacher.
 
+use crate::config_file;
 use crate::Status;
 use anyhow::{Context, Result};
 use clap::Args;
@@ -11,24 +12,64 @@ use std::path::PathBuf;
 #[derive(Debug, Args)]
 pub struct TrainDriverArgs {
     /// Seed of every random choice: the same seed gives the same weights (the built-in ones are
-    /// seed 1 with the defaults).
-    #[arg(long, default_value_t = CloningConfig::default().seed)]
-    pub seed: u64,
+    /// seed 1 with the defaults) [default: 1].
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Where to write the weights (load them with `--driver-weights FILE`).
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
-    /// Random roads driven for training frames.
-    #[arg(long, default_value_t = CloningConfig::default().training_roads)]
-    pub roads: usize,
-    /// Largest curvature of the training roads, 1/m (the search's roads go up to 0.07).
-    #[arg(long, default_value_t = CloningConfig::default().max_curvature_per_m)]
-    pub max_curvature: f64,
-    /// Passes over the training frames.
-    #[arg(long, default_value_t = CloningConfig::default().epochs)]
-    pub epochs: usize,
-    /// Wall-clock limit of the whole training, minutes (no epoch starts that would end later).
-    #[arg(long, default_value_t = CloningConfig::default().time_limit_s / 60.0)]
-    pub minutes: f64,
+    /// Random roads driven for training frames (validation roads: a sixth as many)
+    /// [default: 120].
+    #[arg(long)]
+    pub roads: Option<usize>,
+    /// Largest curvature of the training roads, 1/m (the search's roads go up to 0.07)
+    /// [default: 0.03].
+    #[arg(long)]
+    pub max_curvature: Option<f64>,
+    /// Passes over the training frames [default: 4].
+    #[arg(long)]
+    pub epochs: Option<usize>,
+    /// Wall-clock limit of the whole training, minutes (no epoch starts that would end later)
+    /// [default: 28].
+    #[arg(long)]
+    pub minutes: Option<f64>,
+    /// JSON file overriding the training defaults, e.g. `{"noise_max_rad": 0.1, "teacher":
+    /// {"lookahead_base_m": 3.0}}` (the output line's `config` shows every field). Options given
+    /// on the command line win over the file.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+impl TrainDriverArgs {
+    /// The training settings: defaults, then the `--config` file, then the options.
+    fn cloning_config(&self) -> Result<CloningConfig> {
+        let patch = match &self.config {
+            Some(path) => Some(config_file::read::<serde_json::Value>(path)?),
+            None => None,
+        };
+        let mut config =
+            config_file::lay_over(patch.as_ref(), CloningConfig::default(), "training")?;
+        if let Some(seed) = self.seed {
+            config.seed = seed;
+        }
+        if let Some(roads) = self.roads {
+            config.training_roads = roads;
+            config.validation_roads = (roads / 6).max(1);
+        }
+        if let Some(max_curvature) = self.max_curvature {
+            config.max_curvature_per_m = max_curvature;
+        }
+        if let Some(epochs) = self.epochs {
+            config.epochs = epochs;
+        }
+        if let Some(minutes) = self.minutes {
+            config.time_limit_s = minutes * 60.0;
+        }
+        config
+            .validate()
+            .map_err(|problem| anyhow::anyhow!("invalid training settings: {problem}"))?;
+        Ok(config)
+    }
 }
 
 #[derive(Serialize)]
@@ -43,15 +84,7 @@ struct ReportRecord<'a> {
 
 /// Runs `wogan train-driver`.
 pub fn run(args: &TrainDriverArgs) -> Result<Status> {
-    let config = CloningConfig {
-        seed: args.seed,
-        training_roads: args.roads,
-        validation_roads: (args.roads / 6).max(1),
-        epochs: args.epochs,
-        max_curvature_per_m: args.max_curvature,
-        time_limit_s: args.minutes * 60.0,
-        ..CloningConfig::default()
-    };
+    let config = args.cloning_config()?;
     let (weights, report) = train(&config, &mut |progress| match progress {
         CloningProgress::Recorded { roads, of, frames } if roads == of || roads % 20 == 0 => {
             eprintln!("recorded {roads}/{of} roads, {frames} frames");

@@ -1,0 +1,88 @@
+//! JSON configuration files: partial objects laid over typed defaults, field by field.
+//!
+//! `wogan run --config` and `wogan train-driver --config` both take such a file, so a user names
+//! only the fields they change and every other field keeps the paper's (or the driver's) default.
+
+use anyhow::{Context, Result};
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use std::path::Path;
+
+/// Reads `path` as one JSON value and hands it to `T`'s deserializer.
+pub fn read<T: DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read config file {}", path.display()))?;
+    serde_json::from_str(&text).with_context(|| format!("config file {}", path.display()))
+}
+
+/// `defaults` with `patch` laid over them; `name` says where the patch came from in errors.
+pub fn lay_over<T: Serialize + DeserializeOwned>(
+    patch: Option<&serde_json::Value>,
+    defaults: T,
+    name: &str,
+) -> Result<T> {
+    let Some(patch) = patch else {
+        return Ok(defaults);
+    };
+    let mut merged = serde_json::to_value(defaults).context("cannot encode the defaults")?;
+    merge(&mut merged, patch);
+    serde_json::from_value(merged).with_context(|| format!("config file, {name}"))
+}
+
+/// Lays `patch` over `base`: objects merge key by key, anything else replaces.
+fn merge(base: &mut serde_json::Value, patch: &serde_json::Value) {
+    match (base, patch) {
+        (serde_json::Value::Object(base), serde_json::Value::Object(patch)) => {
+            for (key, value) in patch {
+                merge(
+                    base.entry(key.clone()).or_insert(serde_json::Value::Null),
+                    value,
+                );
+            }
+        }
+        (base, patch) => *base = patch.clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde::Deserialize;
+
+    #[derive(Debug, PartialEq, Serialize, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Inner {
+        a: f64,
+        b: f64,
+    }
+
+    #[derive(Debug, PartialEq, Serialize, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Outer {
+        inner: Inner,
+        c: u32,
+    }
+
+    fn defaults() -> Outer {
+        Outer {
+            inner: Inner { a: 1.0, b: 2.0 },
+            c: 3,
+        }
+    }
+
+    #[test]
+    fn a_patch_changes_only_the_fields_it_names() {
+        let patch = serde_json::json!({"inner": {"b": 5.0}});
+        let merged = lay_over(Some(&patch), defaults(), "\"test\"").unwrap();
+        assert_eq!(merged.inner, Inner { a: 1.0, b: 5.0 });
+        assert_eq!(merged.c, 3);
+        assert_eq!(lay_over(None, defaults(), "none").unwrap(), defaults());
+    }
+
+    #[test]
+    fn an_unknown_field_is_named_in_the_error() {
+        let patch = serde_json::json!({"inner": {"typo": 5.0}});
+        let err = lay_over(Some(&patch), defaults(), "\"test\"").unwrap_err();
+        assert!(format!("{err:#}").contains("typo"), "{err:#}");
+    }
+}
