@@ -165,12 +165,28 @@ fn a_config_file_overrides_the_defaults_and_typos_are_named() {
     assert_eq!(config["search"]["wogan"]["bins"], 10);
     assert_eq!(config["sim"]["oob_tolerance"], 0.85);
 
-    let typo = dir.join("typo.json");
-    std::fs::write(&typo, r#"{"search": {"wogan": {"analyser": {}}}}"#).unwrap();
-    let output = wogan(&["run", "--config", typo.to_str().unwrap()], "");
-    assert_eq!(output.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&output.stderr).contains("analyser"));
-    assert!(output.stdout.is_empty());
+    // A typo, and values that parse but no simulation can run with, are named before any output.
+    for (name, json, named) in [
+        (
+            "typo.json",
+            r#"{"search": {"wogan": {"analyser": {}}}}"#,
+            "analyser",
+        ),
+        ("rate.json", r#"{"sim": {"physics_hz": 0}}"#, "physics_hz"),
+        (
+            "car.json",
+            r#"{"sim": {"vehicle": {"mass_kg": -1}}}"#,
+            "vehicle.mass_kg",
+        ),
+    ] {
+        let path = dir.join(name);
+        std::fs::write(&path, json).unwrap();
+        let output = wogan(&["run", "--config", path.to_str().unwrap()], "");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{json}: {stderr}");
+        assert!(stderr.contains(named), "{json}: {stderr}");
+        assert!(output.stdout.is_empty());
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -64,6 +64,10 @@ fn bad_settings_are_named_before_any_training() {
         (r#"{"noise_hold_s": [1.0, 0.5]}"#, "noise_hold_s"),
         (r#"{"max_curvature_per_m": 0.5}"#, "max_curvature_per_m"),
         (r#"{"epochs": "four"}"#, "four"),
+        (
+            r#"{"teacher": {"control_hz": 0}}"#,
+            "teacher: beamng_ai.control_hz",
+        ),
     ] {
         let config = config_file("bad.json", json);
         let output = wogan(

@@ -193,6 +193,8 @@ pub fn run(args: &RunArgs) -> Result<Status> {
         search.wogan.init_fraction = init_fraction;
     }
     search.validate().context("invalid search settings")?;
+    sim.validate()
+        .map_err(|problem| anyhow::anyhow!("invalid simulation settings: {problem}"))?;
     let driver = args.sim.driver_setup()?;
     let budget = Budget {
         max_tests: args.max_tests.map(|n| n as usize),

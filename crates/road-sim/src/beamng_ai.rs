@@ -16,6 +16,7 @@
 use crate::driver::{pedals, Driver, Observation};
 use crate::polyline;
 use crate::road::Road;
+use crate::settings_check::{each, non_negative, positive};
 use crate::vehicle::{Command, VehicleParams};
 use crate::Point;
 use serde::{Deserialize, Serialize};
@@ -71,6 +72,41 @@ impl Default for BeamNgAiParams {
             brake_deadband_mps: 0.5,
             control_hz: 30.0,
         }
+    }
+}
+
+impl BeamNgAiParams {
+    /// Names the first setting the driver cannot work with.
+    pub fn validate(&self) -> Result<(), String> {
+        let settings = [
+            ("aggression", self.aggression),
+            ("lateral_grip_base", self.lateral_grip_base),
+            (
+                "lateral_grip_per_aggression",
+                self.lateral_grip_per_aggression,
+            ),
+            ("brake_base", self.brake_base),
+            ("brake_per_aggression", self.brake_per_aggression),
+            ("lookahead_base_m", self.lookahead_base_m),
+            ("lookahead_time_s", self.lookahead_time_s),
+            ("steering_gain", self.steering_gain),
+            ("speed_preview_s", self.speed_preview_s),
+            ("throttle_gain", self.throttle_gain),
+            ("brake_gain", self.brake_gain),
+            ("brake_deadband_mps", self.brake_deadband_mps),
+        ];
+        each(
+            "beamng_ai",
+            &settings,
+            non_negative,
+            "finite and not negative",
+        )?;
+        each(
+            "beamng_ai",
+            &[("control_hz", self.control_hz)],
+            positive,
+            "positive",
+        )
     }
 }
 

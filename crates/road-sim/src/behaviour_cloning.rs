@@ -32,6 +32,7 @@ use crate::dave2::{Dave2Trainer, Dave2Weights, FRAME_PIXELS};
 use crate::dave2_inference::Dave2Net;
 use crate::driver::{Driver, Observation};
 use crate::road::Road;
+use crate::settings_check::{first_problem, non_negative, positive};
 use crate::simulation::{simulate, SimConfig};
 use crate::vehicle::{Command, VehicleParams};
 use crate::Validator;
@@ -100,9 +101,8 @@ impl Default for CloningConfig {
 impl CloningConfig {
     /// Names the first setting training cannot work with (from a hand-written config file).
     pub fn validate(&self) -> Result<(), String> {
-        let positive = |value: f64| value.is_finite() && value > 0.0;
         let (shortest, longest) = self.noise_hold_s;
-        let problems = [
+        first_problem(&[
             (
                 self.training_roads >= 1,
                 "training_roads must be at least 1",
@@ -123,7 +123,7 @@ impl CloningConfig {
             (positive(self.speed_kmh), "speed_kmh must be positive"),
             (positive(self.record_hz), "record_hz must be positive"),
             (
-                self.noise_max_rad.is_finite() && self.noise_max_rad >= 0.0,
+                non_negative(self.noise_max_rad),
                 "noise_max_rad must be finite and not negative",
             ),
             (
@@ -137,11 +137,10 @@ impl CloningConfig {
                 "learning_rate must be positive",
             ),
             (positive(self.time_limit_s), "time_limit_s must be positive"),
-        ];
-        match problems.iter().find(|(ok, _)| !ok) {
-            Some((_, problem)) => Err((*problem).to_string()),
-            None => Ok(()),
-        }
+        ])?;
+        self.teacher
+            .validate()
+            .map_err(|problem| format!("teacher: {problem}"))
     }
 }
 

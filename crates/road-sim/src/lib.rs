@@ -20,6 +20,7 @@ pub mod outcome;
 pub mod polyline;
 pub mod road;
 pub mod scenario;
+mod settings_check;
 pub mod simulation;
 pub mod spline;
 pub mod validator;

@@ -10,6 +10,7 @@ use crate::outcome::{
     fitness_from_distance, reason, Outcome, Sample, SimResult, CENTRED_DISTANCE_M,
 };
 use crate::road::{Road, LANE_WIDTH_M};
+use crate::settings_check::{first_problem, non_negative, positive};
 use crate::vehicle::{Command, Vehicle, VehicleParams};
 use crate::Point;
 use serde::{Deserialize, Serialize};
@@ -72,6 +73,38 @@ impl Default for SimConfig {
 }
 
 impl SimConfig {
+    /// Names the first setting no simulation can run with (from a hand-written config file).
+    pub fn validate(&self) -> Result<(), String> {
+        first_problem(&[
+            (positive(self.speed_limit_kmh), "speed_limit_kmh must be positive"),
+            (
+                (0.0..=1.0).contains(&self.oob_tolerance),
+                "oob_tolerance must be in [0, 1]",
+            ),
+            (positive(self.physics_hz), "physics_hz must be positive"),
+            (positive(self.sample_hz), "sample_hz must be positive"),
+            (
+                [
+                    self.start_offset_m,
+                    self.end_distance_m,
+                    self.timeout_speed_mps,
+                    self.not_moving_distance_m,
+                ]
+                .into_iter()
+                .all(non_negative),
+                "start_offset_m, end_distance_m, timeout_speed_mps and not_moving_distance_m must be finite and not negative",
+            ),
+            (positive(self.timeout_base_s), "timeout_base_s must be positive"),
+            (
+                positive(self.not_moving_window_s),
+                "not_moving_window_s must be positive",
+            ),
+        ])?;
+        self.vehicle.validate()?;
+        self.beamng_ai.validate()?;
+        self.dave2.validate()
+    }
+
     /// The time limit for `road`: `timeout_base_s + length / timeout_speed_mps`, seconds.
     pub fn timeout_s(&self, road: &Road) -> f64 {
         self.timeout_base_s + road.length_m() / self.timeout_speed_mps

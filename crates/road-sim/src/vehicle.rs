@@ -8,6 +8,7 @@
 //! by `h` about rapier's `+Y`. The chassis' local axes are `+X` forward, `+Y` up, `+Z` right.
 //! Positive steering turns left.
 
+use crate::settings_check::{each, non_negative, positive};
 use crate::Point;
 use rapier3d::control::{DynamicRayCastVehicleController, WheelTuning};
 use rapier3d::prelude::*;
@@ -74,6 +75,37 @@ impl Default for VehicleParams {
             suspension_stiffness: 25.0,
             linear_damping: 0.01,
         }
+    }
+}
+
+impl VehicleParams {
+    /// Names the first parameter no car can have.
+    pub fn validate(&self) -> Result<(), String> {
+        let positive_values = [
+            ("length_m", self.length_m),
+            ("width_m", self.width_m),
+            ("mass_kg", self.mass_kg),
+            ("cg_to_front_axle_m", self.cg_to_front_axle_m),
+            ("cg_to_rear_axle_m", self.cg_to_rear_axle_m),
+            ("track_m", self.track_m),
+            ("wheel_radius_m", self.wheel_radius_m),
+            ("yaw_inertia_kg_m2", self.yaw_inertia_kg_m2),
+            ("max_drive_force_n", self.max_drive_force_n),
+            ("max_power_w", self.max_power_w),
+            ("max_brake_force_n", self.max_brake_force_n),
+            ("max_steering_rad", self.max_steering_rad),
+            ("max_steering_rate_rad_s", self.max_steering_rate_rad_s),
+            ("tyre_friction", self.tyre_friction),
+            ("side_friction_stiffness", self.side_friction_stiffness),
+            ("suspension_stiffness", self.suspension_stiffness),
+        ];
+        each("vehicle", &positive_values, positive, "positive")?;
+        each(
+            "vehicle",
+            &[("linear_damping", self.linear_damping)],
+            non_negative,
+            "finite and not negative",
+        )
     }
 }
 

@@ -1,0 +1,54 @@
+//! Checks of settings that may come from a hand-written config file, so that a bad value is
+//! named up front instead of panicking or stalling deep inside a simulation.
+
+/// `Ok` when every check holds, else the message of the first that fails.
+pub(crate) fn first_problem(checks: &[(bool, &str)]) -> Result<(), String> {
+    match checks.iter().find(|(ok, _)| !ok) {
+        Some((_, problem)) => Err((*problem).to_string()),
+        None => Ok(()),
+    }
+}
+
+/// `Ok` when `holds` is true of every named value, else names the first one it is false of:
+/// "`section`.`name` must be `requirement`".
+pub(crate) fn each(
+    section: &str,
+    values: &[(&str, f64)],
+    holds: fn(f64) -> bool,
+    requirement: &str,
+) -> Result<(), String> {
+    match values.iter().find(|(_, value)| !holds(*value)) {
+        Some((name, _)) => Err(format!("{section}.{name} must be {requirement}")),
+        None => Ok(()),
+    }
+}
+
+/// Finite and above zero.
+pub(crate) fn positive(value: f64) -> bool {
+    value.is_finite() && value > 0.0
+}
+
+/// Finite and not below zero.
+pub(crate) fn non_negative(value: f64) -> bool {
+    value.is_finite() && value >= 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_first_failing_check_is_reported() {
+        assert_eq!(first_problem(&[(true, "a"), (true, "b")]), Ok(()));
+        assert_eq!(
+            first_problem(&[(true, "a"), (false, "b"), (false, "c")]),
+            Err("b".to_string())
+        );
+        assert!(positive(1.0) && !positive(0.0) && !positive(f64::NAN));
+        assert_eq!(
+            each("car", &[("a", 1.0), ("b", -1.0)], positive, "positive"),
+            Err("car.b must be positive".to_string())
+        );
+        assert!(non_negative(0.0) && !non_negative(-1e-9) && !non_negative(f64::INFINITY));
+    }
+}
