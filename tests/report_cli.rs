@@ -4,20 +4,12 @@
 
 mod common;
 
-use common::{wogan, wogan_ok};
+use common::{scratch_dir, wogan, wogan_ok};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 fn fixture(name: &str) -> String {
     format!("{}/../../tests/fixtures/{name}", env!("CARGO_MANIFEST_DIR"))
-}
-
-/// A fresh scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("wogan-report-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch directory");
-    dir
 }
 
 fn path_str(path: &Path) -> &str {
@@ -54,7 +46,7 @@ fn texts(path: &Path) -> Vec<String> {
 
 /// Reports the WOGAN fixture runs of seeds 3 and 4 into a fresh scratch directory `name`.
 fn report_of_seeds_3_and_4(name: &str) -> PathBuf {
-    let out = scratch(name);
+    let out = scratch_dir(name);
     wogan_ok(
         &[
             "report",
@@ -134,7 +126,7 @@ fn svgs_parse_and_draw_one_road_per_failing_test() {
 
 #[test]
 fn groups_by_configuration_and_compares_with_vs() {
-    let out = scratch("groups");
+    let out = scratch_dir("groups");
     let runs = [
         fixture("wogan.seed3.jsonl"),
         fixture("random.seed4.jsonl"),
@@ -149,7 +141,7 @@ fn groups_by_configuration_and_compares_with_vs() {
     assert!(report.contains("## Group 1: random /"), "{report}");
     assert!(report.contains("## Group 2: wogan /"), "{report}");
 
-    let out = scratch("vs");
+    let out = scratch_dir("vs");
     wogan_ok(
         &[
             "report",
@@ -178,7 +170,7 @@ fn groups_by_configuration_and_compares_with_vs() {
 
 #[test]
 fn truncated_run_with_a_bad_line_is_reported_with_status_1() {
-    let out = scratch("truncated");
+    let out = scratch_dir("truncated");
     let text = read(Path::new(&fixture("wogan.seed3.jsonl")));
     let mut lines: Vec<&str> = text
         .lines()
@@ -201,7 +193,7 @@ fn truncated_run_with_a_bad_line_is_reported_with_status_1() {
 
 #[test]
 fn bad_usage_gives_status_2() {
-    let out = scratch("usage");
+    let out = scratch_dir("usage");
     let output = wogan(&["report", "--out", path_str(&out)], "");
     assert_eq!(output.status.code(), Some(2));
     let output = wogan(
@@ -229,7 +221,7 @@ fn bad_usage_gives_status_2() {
 
 #[test]
 fn export_writes_the_competition_layout_and_round_trips_through_validate() {
-    let out = scratch("export");
+    let out = scratch_dir("export");
     wogan_ok(
         &[
             "export",
@@ -292,7 +284,7 @@ fn export_writes_the_competition_layout_and_round_trips_through_validate() {
 
 #[test]
 fn trace_picture_draws_path_bolp_and_speed() {
-    let out = scratch("trace");
+    let out = scratch_dir("trace");
     let text = read(Path::new(&fixture("wogan.seed4.jsonl")));
     let failing = text
         .lines()
@@ -325,7 +317,7 @@ fn trace_picture_draws_path_bolp_and_speed() {
 
 #[test]
 fn export_of_a_truncated_run_sums_the_test_records() {
-    let out = scratch("export-truncated");
+    let out = scratch_dir("export-truncated");
     let text = read(Path::new(&fixture("wogan.seed3.jsonl")));
     let mut lines: Vec<&str> = text
         .lines()

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{records, wogan};
+use common::{records, scratch_dir, wogan};
 use road_sim::Validator;
 use serde_json::Value;
 use std::io::{BufRead, BufReader};
@@ -148,8 +148,7 @@ fn bad_options_exit_2() {
 
 #[test]
 fn a_config_file_overrides_the_defaults_and_typos_are_named() {
-    let dir = std::env::temp_dir().join(format!("wogan-config-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("config");
     let good = dir.join("good.json");
     std::fs::write(
         &good,
@@ -257,8 +256,7 @@ fn bolp_fitness_is_the_papers_and_bolp_scaled_divides_by_the_tolerance() {
 
 #[test]
 fn driver_weights_must_be_dave2_weights() {
-    let dir = std::env::temp_dir().join(format!("wogan-weights-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("weights");
     let junk = dir.join("junk.bin");
     std::fs::write(&junk, b"not weights").unwrap();
     let (code, records) = run(&[

@@ -2,12 +2,11 @@
 
 mod common;
 
-use common::{records, wogan, wogan_ok};
+use common::{records, scratch_dir, wogan, wogan_ok};
 
-fn config_file(name: &str, json: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("wogan-train-driver-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
+/// Writes `json` to a file `name` in the scratch directory `test`.
+fn config_file(test: &str, name: &str, json: &str) -> std::path::PathBuf {
+    let path = scratch_dir(test).join(name);
     std::fs::write(&path, json).unwrap();
     path
 }
@@ -15,6 +14,7 @@ fn config_file(name: &str, json: &str) -> std::path::PathBuf {
 #[test]
 fn a_config_file_sets_what_the_options_do_not_and_the_weights_drive() {
     let config = config_file(
+        "train-config",
         "noise.json",
         r#"{"noise_max_rad": 0.05, "epochs": 3, "teacher": {"lookahead_base_m": 4.0}}"#,
     );
@@ -69,7 +69,7 @@ fn bad_settings_are_named_before_any_training() {
             "teacher: beamng_ai.control_hz",
         ),
     ] {
-        let config = config_file("bad.json", json);
+        let config = config_file("train-bad", "bad.json", json);
         let output = wogan(
             &[
                 "train-driver",

@@ -5,7 +5,17 @@
 
 use serde_json::Value;
 use std::io::Write;
+use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
+
+/// A fresh, empty scratch directory for one test (each test binary is its own process, so the
+/// process id keeps binaries apart and `name` keeps tests apart).
+pub fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("wogan-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
 
 /// Runs `wogan ARGS` with `stdin` as its standard input and waits for it.
 pub fn wogan(args: &[&str], stdin: &str) -> Output {

@@ -43,10 +43,11 @@ pub struct TrainDriverArgs {
 impl TrainDriverArgs {
     /// The training settings: defaults, then the `--config` file, then the options.
     fn cloning_config(&self) -> Result<CloningConfig> {
-        let patch = match &self.config {
-            Some(path) => Some(config_file::read::<serde_json::Value>(path)?),
-            None => None,
-        };
+        let patch = self
+            .config
+            .as_deref()
+            .map(config_file::read::<serde_json::Value>)
+            .transpose()?;
         let mut config =
             config_file::lay_over(patch.as_ref(), CloningConfig::default(), "training")?;
         if let Some(seed) = self.seed {

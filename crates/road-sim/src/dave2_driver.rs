@@ -10,7 +10,7 @@ use crate::dave2::{Dave2Weights, WeightsError};
 use crate::dave2_inference::Dave2Net;
 use crate::driver::{pedals, Driver, Observation};
 use crate::road::Road;
-use crate::settings_check::{first_problem, non_negative, positive};
+use crate::settings_check::{each, non_negative, positive, NON_NEGATIVE, POSITIVE};
 use crate::vehicle::{Command, VehicleParams};
 use serde::{Deserialize, Serialize};
 
@@ -45,19 +45,25 @@ impl Default for Dave2DriverParams {
 impl Dave2DriverParams {
     /// Names the first setting the driver cannot work with.
     pub fn validate(&self) -> Result<(), String> {
-        first_problem(&[
-            (
-                positive(self.control_hz),
-                "dave2.control_hz must be positive",
-            ),
-            (positive(self.speed_kmh), "dave2.speed_kmh must be positive"),
-            (
-                [self.throttle_gain, self.brake_gain, self.brake_deadband_mps]
-                    .into_iter()
-                    .all(non_negative),
-                "dave2: gains and dead band must be finite and not negative",
-            ),
-        ])
+        each(
+            "dave2.",
+            &[
+                ("control_hz", self.control_hz),
+                ("speed_kmh", self.speed_kmh),
+            ],
+            positive,
+            POSITIVE,
+        )?;
+        each(
+            "dave2.",
+            &[
+                ("throttle_gain", self.throttle_gain),
+                ("brake_gain", self.brake_gain),
+                ("brake_deadband_mps", self.brake_deadband_mps),
+            ],
+            non_negative,
+            NON_NEGATIVE,
+        )
     }
 }
 

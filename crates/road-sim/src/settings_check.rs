@@ -10,18 +10,24 @@ pub(crate) fn first_problem(checks: &[(bool, &str)]) -> Result<(), String> {
 }
 
 /// `Ok` when `holds` is true of every named value, else names the first one it is false of:
-/// "`section`.`name` must be `requirement`".
+/// "`prefix``name` must be `requirement`" (`prefix` is a section such as `"vehicle."`, or empty).
 pub(crate) fn each(
-    section: &str,
+    prefix: &str,
     values: &[(&str, f64)],
     holds: fn(f64) -> bool,
     requirement: &str,
 ) -> Result<(), String> {
     match values.iter().find(|(_, value)| !holds(*value)) {
-        Some((name, _)) => Err(format!("{section}.{name} must be {requirement}")),
+        Some((name, _)) => Err(format!("{prefix}{name} must be {requirement}")),
         None => Ok(()),
     }
 }
+
+/// The requirement [`non_negative`] checks, as [`each`] words it.
+pub(crate) const NON_NEGATIVE: &str = "finite and not negative";
+
+/// The requirement [`positive`] checks, as [`each`] words it.
+pub(crate) const POSITIVE: &str = "positive";
 
 /// Finite and above zero.
 pub(crate) fn positive(value: f64) -> bool {
@@ -46,7 +52,7 @@ mod tests {
         );
         assert!(positive(1.0) && !positive(0.0) && !positive(f64::NAN));
         assert_eq!(
-            each("car", &[("a", 1.0), ("b", -1.0)], positive, "positive"),
+            each("car.", &[("a", 1.0), ("b", -1.0)], positive, POSITIVE),
             Err("car.b must be positive".to_string())
         );
         assert!(non_negative(0.0) && !non_negative(-1e-9) && !non_negative(f64::INFINITY));

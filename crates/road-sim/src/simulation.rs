@@ -10,7 +10,7 @@ use crate::outcome::{
     fitness_from_distance, reason, Outcome, Sample, SimResult, CENTRED_DISTANCE_M,
 };
 use crate::road::{Road, LANE_WIDTH_M};
-use crate::settings_check::{first_problem, non_negative, positive};
+use crate::settings_check::{each, non_negative, positive, NON_NEGATIVE, POSITIVE};
 use crate::vehicle::{Command, Vehicle, VehicleParams};
 use crate::Point;
 use serde::{Deserialize, Serialize};
@@ -75,31 +75,32 @@ impl Default for SimConfig {
 impl SimConfig {
     /// Names the first setting no simulation can run with (from a hand-written config file).
     pub fn validate(&self) -> Result<(), String> {
-        first_problem(&[
-            (positive(self.speed_limit_kmh), "speed_limit_kmh must be positive"),
-            (
-                (0.0..=1.0).contains(&self.oob_tolerance),
-                "oob_tolerance must be in [0, 1]",
-            ),
-            (positive(self.physics_hz), "physics_hz must be positive"),
-            (positive(self.sample_hz), "sample_hz must be positive"),
-            (
-                [
-                    self.start_offset_m,
-                    self.end_distance_m,
-                    self.timeout_speed_mps,
-                    self.not_moving_distance_m,
-                ]
-                .into_iter()
-                .all(non_negative),
-                "start_offset_m, end_distance_m, timeout_speed_mps and not_moving_distance_m must be finite and not negative",
-            ),
-            (positive(self.timeout_base_s), "timeout_base_s must be positive"),
-            (
-                positive(self.not_moving_window_s),
-                "not_moving_window_s must be positive",
-            ),
-        ])?;
+        if !(0.0..=1.0).contains(&self.oob_tolerance) {
+            return Err("oob_tolerance must be in [0, 1]".to_string());
+        }
+        each(
+            "",
+            &[
+                ("speed_limit_kmh", self.speed_limit_kmh),
+                ("physics_hz", self.physics_hz),
+                ("sample_hz", self.sample_hz),
+                ("timeout_base_s", self.timeout_base_s),
+                ("not_moving_window_s", self.not_moving_window_s),
+            ],
+            positive,
+            POSITIVE,
+        )?;
+        each(
+            "",
+            &[
+                ("start_offset_m", self.start_offset_m),
+                ("end_distance_m", self.end_distance_m),
+                ("timeout_speed_mps", self.timeout_speed_mps),
+                ("not_moving_distance_m", self.not_moving_distance_m),
+            ],
+            non_negative,
+            NON_NEGATIVE,
+        )?;
         self.vehicle.validate()?;
         self.beamng_ai.validate()?;
         self.dave2.validate()

@@ -8,7 +8,7 @@
 //! by `h` about rapier's `+Y`. The chassis' local axes are `+X` forward, `+Y` up, `+Z` right.
 //! Positive steering turns left.
 
-use crate::settings_check::{each, non_negative, positive};
+use crate::settings_check::{each, non_negative, positive, NON_NEGATIVE, POSITIVE};
 use crate::Point;
 use rapier3d::control::{DynamicRayCastVehicleController, WheelTuning};
 use rapier3d::prelude::*;
@@ -99,12 +99,12 @@ impl VehicleParams {
             ("side_friction_stiffness", self.side_friction_stiffness),
             ("suspension_stiffness", self.suspension_stiffness),
         ];
-        each("vehicle", &positive_values, positive, "positive")?;
+        each("vehicle.", &positive_values, positive, POSITIVE)?;
         each(
-            "vehicle",
+            "vehicle.",
             &[("linear_damping", self.linear_damping)],
             non_negative,
-            "finite and not negative",
+            NON_NEGATIVE,
         )
     }
 }
