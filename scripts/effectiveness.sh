@@ -20,7 +20,9 @@ algorithms=${ALGORITHMS:-random wogan}
 tag=${TAG:+.$TAG}
 mkdir -p "$out"
 field() { grep '"type":"summary"' "$1" | grep -o "\"$2\":[^,}]*" | cut -d: -f2; }
-median() { sort -g | awk '{v[NR]=$1} END {print (NR%2 ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2)}'; }
+# Median and mean: outcomes are bimodal (a run that reaches the failure boundary early exploits
+# it), so the two can tell different stories.
+median() { sort -g | awk '{v[NR]=$1; s+=$1} END {m = NR%2 ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2; print m " (mean " s/NR ")"}'; }
 printf '%-6s %-8s %8s %10s %8s\n' seed algo failed diversity wall_s
 for algorithm in $algorithms; do
   for seed in $seeds; do

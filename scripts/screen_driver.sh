@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# How a dave2-proxy student behaves on the 300 reference roads, before spending an
+# effectiveness run on it: failure rate, how many roads show a graded BOLP (the slope the BOLP
+# fitness can climb), the spread of fitness_distance, and failures by the road's sharpness.
+#
+#   scripts/screen_driver.sh                 # the built-in student
+#   scripts/screen_driver.sh student.bin     # weights written by `wogan train-driver`
+#
+# About 45 s on one core. Needs only bash, sort and awk.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+weights=${1:-}
+cargo build --release -q -p wogan-cli
+results=$(mktemp)
+trap 'rm -f "$results"' EXIT
+./target/release/wogan simulate --oracle dave2-proxy ${weights:+--driver-weights "$weights"} \
+  tests/reference/roads.jsonl >"$results"
+field() { grep -o "\"$1\":[^,}]*" "$results" | cut -d: -f2 | tr -d '"'; }
+paste <(field outcome) <(field max_bolp) <(field MAX_CURV) | awk '
+  { n++; band = int($3 / 0.01); if (band > 6) band = 6; roads[band]++;
+    if ($1 == "FAIL") { failed++; failed_in[band]++ }
+    if ($2 > 0.002 && $2 <= 0.1) graded++ }
+  END {
+    printf "roads %d, FAIL %d (%.1f%%), graded BOLP (0.002 < max_bolp <= 0.1) on %d (%.1f%%)\n",
+      n, failed, 100 * failed / n, graded, 100 * graded / n;
+    printf "failures by MAX_CURV band (1/m):";
+    for (b = 0; b <= 6; b++) if (roads[b]) printf " %.2f+ %d/%d", b / 100, failed_in[b], roads[b];
+    printf "\n" }'
+field fitness_distance | sort -g | awk '
+  { v[NR] = $1 }
+  END { printf "fitness_distance deciles:";
+        for (i = 0; i <= 10; i++) printf " %.3f", v[int(i * (NR - 1) / 10) + 1]; printf "\n" }'
