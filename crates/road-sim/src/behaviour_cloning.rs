@@ -28,10 +28,11 @@
 //! Between those, a 3.75 m + 0.5 s teacher on 60 roads up to 0.026/m makes the profile the
 //! competition described for DAVE-2 (`scripts/screen_driver.sh`): after 5 epochs it fails 4.3%
 //! of the reference roads, all sharper than 0.06/m, with a graded BOLP on 0.3% and a lane distance
-//! that grows with sharpness. Yet WOGAN cannot use it: its failures are sustained sharp right
-//! turns, which from the map's bottom edge are mostly invalid, and in 300 tests WOGAN found a
-//! median of 8 with either fitness (distance 8 3 6 80 10, BOLP 8 3 33 90 4 on seeds 1–5) where
-//! random search found 15. After 4 epochs the same student fails 10.3% (graded BOLP on 1.7%);
+//! that grows with sharpness. Yet WOGAN cannot use it: in 300 tests it found a median of 8 with
+//! either fitness (distance 8 3 6 80 10, BOLP 8 3 33 90 4 on seeds 1–5) where random search found
+//! 15. Its failures are sustained sharp right turns, and WOGAN does steer there (125 of 240
+//! proposals in one run), but only 3 of those failed: the failure hangs on the turn's exact
+//! sharpness, and a road that passes shows no sign of how near it came. After 4 epochs the same student fails 10.3% (graded BOLP on 1.7%);
 //! 66, 75 or 90 roads make students that fail none, 60 roads up to 0.028 or 0.03/m 16.7% and 11.3%,
 //! and a 4.5 m + 0.6 s teacher on 60 roads up to 0.026/m 19.7% (graded BOLP on 10%). The student
 //! is a steep function of its training: one road or epoch more or less swings its failure rate
