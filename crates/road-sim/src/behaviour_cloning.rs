@@ -32,7 +32,14 @@
 //! either fitness (distance 8 3 6 80 10, BOLP 8 3 33 90 4 on seeds 1–5) where random search found
 //! 15. Its failures are sustained sharp right turns, and WOGAN does steer there (125 of 240
 //! proposals in one run), but only 3 of those failed: the failure hangs on the turn's exact
-//! sharpness, and a road that passes shows no sign of how near it came. After 4 epochs the same student fails 10.3% (graded BOLP on 1.7%);
+//! sharpness, and a road that passes shows no sign of how near it came. The same teacher on 60
+//! roads up to 0.03/m for 5 epochs fails 4.0% with no graded BOLP at all, and its failures fill a
+//! region: 11 of the 15 reference roads with two consecutive curvature values averaging below
+//! −0.055/m (sustained sharp right turns), none elsewhere. WOGAN found 3 3 3 49 4 failures with
+//! the distance and 3 3 22 83 4 with BOLP, random search 14 11 10 16 13: in most runs the
+//! generator hardly ever proposed a road in that corner of the search space (0–3 of 240, random
+//! search about 10), though the random phase had put failing roads from it in the data; in the
+//! run that did reach it, 46 of its 61 roads there failed. After 4 epochs the same student fails 10.3% (graded BOLP on 1.7%);
 //! 66, 75 or 90 roads make students that fail none, 60 roads up to 0.028 or 0.03/m 16.7% and 11.3%,
 //! and a 4.5 m + 0.6 s teacher on 60 roads up to 0.026/m 19.7% (graded BOLP on 10%). The student
 //! is a steep function of its training: one road or epoch more or less swings its failure rate
