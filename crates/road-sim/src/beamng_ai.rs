@@ -16,7 +16,7 @@
 use crate::driver::{pedals, Driver, Observation};
 use crate::polyline;
 use crate::road::Road;
-use crate::settings_check::{each, non_negative, positive, NON_NEGATIVE, POSITIVE};
+use crate::settings_check::{all_non_negative, all_positive};
 use crate::vehicle::{Command, VehicleParams};
 use crate::Point;
 use serde::{Deserialize, Serialize};
@@ -95,13 +95,8 @@ impl BeamNgAiParams {
             ("brake_gain", self.brake_gain),
             ("brake_deadband_mps", self.brake_deadband_mps),
         ];
-        each("beamng_ai.", &settings, non_negative, NON_NEGATIVE)?;
-        each(
-            "beamng_ai.",
-            &[("control_hz", self.control_hz)],
-            positive,
-            POSITIVE,
-        )
+        all_non_negative("beamng_ai.", &settings)?;
+        all_positive("beamng_ai.", &[("control_hz", self.control_hz)])
     }
 }
 

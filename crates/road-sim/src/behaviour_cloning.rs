@@ -26,8 +26,8 @@
 //! second also up to 0.026 and 0.022/m) fail 0 or 1 of the 300 roads.
 //!
 //! Between those, a 3.75 m + 0.5 s teacher on 60 roads up to 0.026/m makes the profile the
-//! competition described for DAVE-2 (`scripts/screen_driver.sh`): after 5 epochs it fails 4.3%
-//! of the reference roads, all sharper than 0.06/m, with a graded BOLP on 0.3% and a lane distance
+//! competition described for DAVE-2 (`scripts/screen_driver.sh`): after 5 epochs it fails 4.3% of
+//! the reference roads, all sharper than 0.06/m, with a graded BOLP on 0.3% and a lane distance
 //! that grows with sharpness. Yet WOGAN cannot use it: in 300 tests it found a median of 8 with
 //! either fitness (distance 8 3 6 80 10, BOLP 8 3 33 90 4 on seeds 1–5) where random search found
 //! 15. Its failures are sustained sharp right turns, and WOGAN does steer there (125 of 240
@@ -35,15 +35,15 @@
 //! sharpness, and a road that passes shows no sign of how near it came. The same teacher on 60
 //! roads up to 0.03/m for 5 epochs fails 4.0% with no graded BOLP at all, and its failures fill a
 //! region: 11 of the 15 reference roads with two consecutive curvature values averaging below
-//! −0.055/m (sustained sharp right turns), none elsewhere. WOGAN found 3 3 3 49 4 failures with
-//! the distance and 3 3 22 83 4 with BOLP, random search 14 11 10 16 13: in most runs the
-//! generator hardly ever proposed a road in that corner of the search space (0–3 of 240, random
-//! search about 10), though the random phase had put failing roads from it in the data; in the
-//! run that did reach it, 46 of its 61 roads there failed. After 4 epochs the same student fails 10.3% (graded BOLP on 1.7%);
-//! 66, 75 or 90 roads make students that fail none, 60 roads up to 0.028 or 0.03/m 16.7% and 11.3%,
-//! and a 4.5 m + 0.6 s teacher on 60 roads up to 0.026/m 19.7% (graded BOLP on 10%). The student
-//! is a steep function of its training: one road or epoch more or less swings its failure rate
-//! across the whole 0.5–10% band.
+//! −0.055/m (sustained sharp right turns), none elsewhere. WOGAN found 3 3 3 49 4 failures with the
+//! distance and 3 3 22 83 4 with BOLP, random search 14 11 10 16 13: in most runs the generator
+//! hardly ever proposed a road in that corner of the search space (0–3 of 240, random search about
+//! 10), though the random phase had put failing roads from it in the data; in the run that did
+//! reach it, 46 of its 61 roads there failed. After 4 epochs the same student fails 10.3% (graded
+//! BOLP on 1.7%); 66, 75 or 90 roads make students that fail none, 60 roads up to 0.028 or 0.03/m
+//! 16.7% and 11.3%, and a 4.5 m + 0.6 s teacher on 60 roads up to 0.026/m 19.7% (graded BOLP on
+//! 10%). The student is a steep function of its training: one road or epoch more or less swings its
+//! failure rate across the whole 0.5–10% band.
 
 use crate::beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
 use crate::camera::{Camera, CameraParams, Frame, RoadScene};

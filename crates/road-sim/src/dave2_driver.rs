@@ -10,7 +10,7 @@ use crate::dave2::{Dave2Weights, WeightsError};
 use crate::dave2_inference::Dave2Net;
 use crate::driver::{pedals, Driver, Observation};
 use crate::road::Road;
-use crate::settings_check::{each, non_negative, positive, NON_NEGATIVE, POSITIVE};
+use crate::settings_check::{all_non_negative, all_positive};
 use crate::vehicle::{Command, VehicleParams};
 use serde::{Deserialize, Serialize};
 
@@ -45,24 +45,20 @@ impl Default for Dave2DriverParams {
 impl Dave2DriverParams {
     /// Names the first setting the driver cannot work with.
     pub fn validate(&self) -> Result<(), String> {
-        each(
+        all_positive(
             "dave2.",
             &[
                 ("control_hz", self.control_hz),
                 ("speed_kmh", self.speed_kmh),
             ],
-            positive,
-            POSITIVE,
         )?;
-        each(
+        all_non_negative(
             "dave2.",
             &[
                 ("throttle_gain", self.throttle_gain),
                 ("brake_gain", self.brake_gain),
                 ("brake_deadband_mps", self.brake_deadband_mps),
             ],
-            non_negative,
-            NON_NEGATIVE,
         )
     }
 }

@@ -9,9 +9,19 @@ pub(crate) fn first_problem(checks: &[(bool, &str)]) -> Result<(), String> {
     }
 }
 
-/// `Ok` when `holds` is true of every named value, else names the first one it is false of:
-/// "`prefix``name` must be `requirement`" (`prefix` is a section such as `"vehicle."`, or empty).
-pub(crate) fn each(
+/// `Ok` when every named value is [`positive`], else names the first that is not:
+/// "`prefix``name` must be positive" (`prefix` is a section such as `"vehicle."`, or empty).
+pub(crate) fn all_positive(prefix: &str, values: &[(&str, f64)]) -> Result<(), String> {
+    each(prefix, values, positive, "positive")
+}
+
+/// `Ok` when every named value is [`non_negative`], else names the first that is not.
+pub(crate) fn all_non_negative(prefix: &str, values: &[(&str, f64)]) -> Result<(), String> {
+    each(prefix, values, non_negative, "finite and not negative")
+}
+
+/// Names the first value `holds` is false of, with the `requirement` it failed.
+fn each(
     prefix: &str,
     values: &[(&str, f64)],
     holds: fn(f64) -> bool,
@@ -22,12 +32,6 @@ pub(crate) fn each(
         None => Ok(()),
     }
 }
-
-/// The requirement [`non_negative`] checks, as [`each`] words it.
-pub(crate) const NON_NEGATIVE: &str = "finite and not negative";
-
-/// The requirement [`positive`] checks, as [`each`] words it.
-pub(crate) const POSITIVE: &str = "positive";
 
 /// Finite and above zero.
 pub(crate) fn positive(value: f64) -> bool {
@@ -52,7 +56,7 @@ mod tests {
         );
         assert!(positive(1.0) && !positive(0.0) && !positive(f64::NAN));
         assert_eq!(
-            each("car.", &[("a", 1.0), ("b", -1.0)], positive, POSITIVE),
+            all_positive("car.", &[("a", 1.0), ("b", -1.0)]),
             Err("car.b must be positive".to_string())
         );
         assert!(non_negative(0.0) && !non_negative(-1e-9) && !non_negative(f64::INFINITY));

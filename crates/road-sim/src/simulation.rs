@@ -10,7 +10,7 @@ use crate::outcome::{
     fitness_from_distance, reason, Outcome, Sample, SimResult, CENTRED_DISTANCE_M,
 };
 use crate::road::{Road, LANE_WIDTH_M};
-use crate::settings_check::{each, non_negative, positive, NON_NEGATIVE, POSITIVE};
+use crate::settings_check::{all_non_negative, all_positive};
 use crate::vehicle::{Command, Vehicle, VehicleParams};
 use crate::Point;
 use serde::{Deserialize, Serialize};
@@ -78,7 +78,7 @@ impl SimConfig {
         if !(0.0..=1.0).contains(&self.oob_tolerance) {
             return Err("oob_tolerance must be in [0, 1]".to_string());
         }
-        each(
+        all_positive(
             "",
             &[
                 ("speed_limit_kmh", self.speed_limit_kmh),
@@ -87,10 +87,8 @@ impl SimConfig {
                 ("timeout_base_s", self.timeout_base_s),
                 ("not_moving_window_s", self.not_moving_window_s),
             ],
-            positive,
-            POSITIVE,
         )?;
-        each(
+        all_non_negative(
             "",
             &[
                 ("start_offset_m", self.start_offset_m),
@@ -98,8 +96,6 @@ impl SimConfig {
                 ("timeout_speed_mps", self.timeout_speed_mps),
                 ("not_moving_distance_m", self.not_moving_distance_m),
             ],
-            non_negative,
-            NON_NEGATIVE,
         )?;
         self.vehicle.validate()?;
         self.beamng_ai.validate()?;

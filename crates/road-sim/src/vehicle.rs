@@ -8,7 +8,7 @@
 //! by `h` about rapier's `+Y`. The chassis' local axes are `+X` forward, `+Y` up, `+Z` right.
 //! Positive steering turns left.
 
-use crate::settings_check::{each, non_negative, positive, NON_NEGATIVE, POSITIVE};
+use crate::settings_check::{all_non_negative, all_positive};
 use crate::Point;
 use rapier3d::control::{DynamicRayCastVehicleController, WheelTuning};
 use rapier3d::prelude::*;
@@ -99,17 +99,10 @@ impl VehicleParams {
             ("side_friction_stiffness", self.side_friction_stiffness),
             ("suspension_stiffness", self.suspension_stiffness),
         ];
-        each("vehicle.", &positive_values, positive, POSITIVE)?;
-        each(
-            "vehicle.",
-            &[("linear_damping", self.linear_damping)],
-            non_negative,
-            NON_NEGATIVE,
-        )
+        all_positive("vehicle.", &positive_values)?;
+        all_non_negative("vehicle.", &[("linear_damping", self.linear_damping)])
     }
-}
 
-impl VehicleParams {
     /// Distance between the axles, metres.
     pub fn wheelbase_m(&self) -> f64 {
         self.cg_to_front_axle_m + self.cg_to_rear_axle_m
