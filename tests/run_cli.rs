@@ -95,6 +95,28 @@ fn wogan_phases_and_training_records() {
 }
 
 #[test]
+fn mutants_join_the_candidates_when_asked_for() {
+    let (code, records) = run(&[
+        "--max-tests",
+        "40",
+        "--seed",
+        "3",
+        "--mutation-share",
+        "0.5",
+    ]);
+    assert_eq!(code, Some(0));
+    assert_eq!(
+        records[0]["config"]["search"]["wogan"]["mutation"]["share"],
+        0.5
+    );
+    let tests = of_type(&records, "test");
+    assert_eq!(tests.len(), 40);
+    let mutants = tests.iter().filter(|t| t["phase"] == "mutant").count();
+    assert!(mutants > 0, "no mutant was chosen");
+    assert!(tests[8..].iter().all(|t| t["phase"] != "random"));
+}
+
+#[test]
 fn sigint_writes_a_summary_and_exits_130() {
     let mut child = Command::new(env!("CARGO_BIN_EXE_wogan"))
         .args([
@@ -139,6 +161,7 @@ fn bad_options_exit_2() {
         &["--oracle", "nobody"],
         &["--oob-tolerance", "1.5"],
         &["--max-tests", "0"],
+        &["--mutation-share", "1.5"],
     ] {
         let (code, records) = run(args);
         assert_eq!(code, Some(2), "{args:?}");

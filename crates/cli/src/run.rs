@@ -56,6 +56,10 @@ pub struct RunArgs {
     /// Share of the budget spent on the initial random search [default: 0.2].
     #[arg(long, value_parser = fraction)]
     pub init_fraction: Option<f64>,
+    /// Share of WOGAN's candidates that are mutants of the best tests so far, ranked by the
+    /// analyzer with the generator's (not in the paper; 0 is the paper's WOGAN) [default: 0].
+    #[arg(long, value_parser = share)]
+    pub mutation_share: Option<f64>,
     /// JSON file overriding the paper's defaults: `{"search": {...}, "sim": {...}}` (the
     /// header's `config.search` and `config.sim` show every field). Options given on the command
     /// line win over the file.
@@ -89,6 +93,13 @@ fn fraction(text: &str) -> Result<f64, String> {
         _ => Err(format!(
             "expected a number strictly between 0 and 1, got {text:?}"
         )),
+    }
+}
+
+fn share(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("expected a number from 0 to 1, got {text:?}")),
     }
 }
 
@@ -191,6 +202,9 @@ pub fn run(args: &RunArgs) -> Result<Status> {
     };
     if let Some(init_fraction) = args.init_fraction {
         search.wogan.init_fraction = init_fraction;
+    }
+    if let Some(share) = args.mutation_share {
+        search.wogan.mutation.share = share;
     }
     search.validate().context("invalid search settings")?;
     sim.validate()

@@ -5,6 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
+use crate::mutation::MutationConfig;
 
 /// Which search algorithm a run uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -99,6 +100,8 @@ pub struct WoganConfig {
     pub analyzer: AnalyzerConfig,
     /// WGAN-GP training.
     pub wgan: WganConfig,
+    /// Mutants of the best tests among the candidates (an extension; off in the paper).
+    pub mutation: MutationConfig,
 }
 
 impl Default for WoganConfig {
@@ -121,6 +124,7 @@ impl Default for WoganConfig {
             critic: CriticConfig::default(),
             analyzer: AnalyzerConfig::default(),
             wgan: WganConfig::default(),
+            mutation: MutationConfig::default(),
         }
     }
 }
@@ -291,6 +295,20 @@ impl RunConfig {
             w.wgan.critic_steps >= 1 && w.wgan.noise_batch >= 2,
             "wogan.wgan.critic_steps must be >= 1 and noise_batch >= 2 (batch normalisation)",
         )?;
+        let m = &w.mutation;
+        check(
+            (0.0..=1.0).contains(&m.share),
+            "wogan.mutation.share must be in [0, 1]",
+        )?;
+        check(m.parents >= 1, "wogan.mutation.parents must be at least 1")?;
+        check(
+            m.max_step.is_finite() && m.max_step >= 0.0,
+            "wogan.mutation.max_step must be finite and non-negative",
+        )?;
+        check(
+            (0.0..=1.0).contains(&m.reshape_probability),
+            "wogan.mutation.reshape_probability must be in [0, 1]",
+        )?;
         Ok(())
     }
 }
@@ -312,5 +330,23 @@ mod tests {
             ..RunConfig::default()
         };
         assert!(bad.validate().is_err());
+    }
+
+    #[test]
+    fn bad_mutation_settings_are_named() {
+        for (json, field) in [
+            (r#"{"share": 1.5}"#, "wogan.mutation.share"),
+            (r#"{"parents": 0}"#, "wogan.mutation.parents"),
+            (r#"{"max_step": -0.1}"#, "wogan.mutation.max_step"),
+            (
+                r#"{"reshape_probability": 2}"#,
+                "wogan.mutation.reshape_probability",
+            ),
+        ] {
+            let mut c = RunConfig::default();
+            c.wogan.mutation = serde_json::from_str(json).unwrap();
+            let message = c.validate().unwrap_err().to_string();
+            assert!(message.contains(field), "{json}: {message}");
+        }
     }
 }

@@ -64,6 +64,16 @@
 //! - Fitness values outside `[0, 1]` are clamped, NaN becomes 0.
 //! - In a WOGAN run, `jobs > 1` parallelises only the random phase; WOGAN's loop is sequential.
 //!
+//! # Beyond the paper: mutants among the candidates
+//!
+//! With [`MutationConfig::share`] above 0 (`wogan run --mutation-share`), that share of each
+//! candidate batch are mutants of the highest-fitness tests so far ([`MutationConfig`]); the
+//! analyzer ranks them with the generator's candidates and the test line's `phase` says
+//! `"mutant"` when one is executed. The default, 0, is the paper's WOGAN. The authors proposed
+//! mutating failing tests for diversity; measured here it also lifts the failure count, because
+//! the generator (a few steps at learning rate 5e-5 per round) barely leaves its starting
+//! distribution and so rarely returns to failures its own data holds.
+//!
 //! # The critic
 //!
 //! burn has no double backward, so the critic's input gradient is an explicit tensor expression
@@ -78,6 +88,7 @@ mod critic;
 pub mod diversity;
 mod error;
 mod generator;
+mod mutation;
 mod nn;
 mod random;
 mod run;
@@ -93,6 +104,7 @@ pub use config::{
     WoganConfig,
 };
 pub use error::Error;
+pub use mutation::MutationConfig;
 pub use run::{run, Event, Phase, Summary};
 pub use sampler::Sampler;
 pub use sut::{Execution, Sut};

@@ -29,6 +29,9 @@ pub enum Phase {
     /// The WOGAN generator and analyzer (or the random fallback after too many invalid
     /// candidates, marked by `predicted_fitness: None`).
     Wogan,
+    /// A mutant of one of the best tests so far, chosen by the analyzer (see
+    /// [`crate::MutationConfig`]).
+    Mutant,
 }
 
 /// Something that happened during a run, reported as soon as it is known.
@@ -253,7 +256,11 @@ pub fn run<S: Sut + ?Sized>(
             r.summary.generation_s += generation_s;
             on_event(Event::Test {
                 id: r.summary.executed,
-                phase: Phase::Wogan,
+                phase: if p.mutant {
+                    Phase::Mutant
+                } else {
+                    Phase::Wogan
+                },
                 test: p.test,
                 fitness,
                 predicted_fitness: p.predicted,

@@ -6,13 +6,14 @@
 
 use burn::prelude::*;
 use rand::seq::index;
-use rand::Rng;
+use rand::{Rng, RngExt};
 
 use crate::analyzer::{logit_target, Analyzer, AnalyzerTrainer};
 use crate::bins::{biased_batch, bin_of};
 use crate::config::WoganConfig;
 use crate::error::Error;
 use crate::generator::Generator;
+use crate::mutation::{mutate, top_indices};
 use crate::nn::{matrix, uniform_noise, values};
 use crate::sampler::Sampler;
 use crate::sut::Sut;
@@ -46,6 +47,8 @@ pub struct Proposal {
     pub predicted: Option<f64>,
     /// Invalid candidates (generated or random) rejected on the way.
     pub invalid: usize,
+    /// Whether the test is a mutant of an earlier one rather than the generator's.
+    pub mutant: bool,
 }
 
 /// WOGAN's data and networks.
@@ -202,16 +205,33 @@ impl WoganModel {
             .ok_or_else(|| Error::Config("WOGAN must be trained before it proposes".into()))?;
         let noise_dim = self.cfg.generator.noise_dim;
         let batch = self.cfg.candidate_batch;
+        let mutation = &self.cfg.mutation;
+        let parents = if mutation.share > 0.0 {
+            top_indices(&self.targets, mutation.parents)
+        } else {
+            Vec::new()
+        };
         let mut target = 1.0f64;
-        let mut best: Option<(Vec<f32>, f64)> = None;
+        let mut best: Option<(Vec<f32>, f64, bool)> = None;
         let mut invalid = 0usize;
         let mut streak = 0usize;
         loop {
             let noise = uniform_noise(rng, batch, noise_dim, &self.plain);
-            let cands = generator.forward(noise);
-            let pred = values(analyzer.predict(cands.clone()))?;
-            let cands = values(cands)?;
-            for (c, p) in cands.chunks_exact(self.dim).zip(pred) {
+            let mut cands = values(generator.forward(noise))?;
+            let mut is_mutant = vec![false; batch];
+            if !parents.is_empty() {
+                for (cand, flag) in cands.chunks_exact_mut(self.dim).zip(&mut is_mutant) {
+                    if rng.random_bool(mutation.share) {
+                        let parent = parents[rng.random_range(0..parents.len())];
+                        let parent = &self.tests[parent * self.dim..(parent + 1) * self.dim];
+                        cand.copy_from_slice(&mutate(parent, mutation, rng));
+                        *flag = true;
+                    }
+                }
+            }
+            let scored = matrix(cands.clone(), batch, self.dim, &self.plain);
+            let pred = values(analyzer.predict(scored))?;
+            for ((c, p), mutant) in cands.chunks_exact(self.dim).zip(pred).zip(is_mutant) {
                 if !sut.is_valid(c) {
                     invalid += 1;
                     streak += 1;
@@ -221,6 +241,7 @@ impl WoganModel {
                             test,
                             predicted: None,
                             invalid,
+                            mutant: false,
                         });
                     }
                     continue;
@@ -228,11 +249,11 @@ impl WoganModel {
                 streak = 0;
                 // A diverged analyzer must not stall the search: NaN ranks lowest.
                 let p = if p.is_nan() { 0.0 } else { f64::from(p) };
-                if best.as_ref().is_none_or(|(_, b)| p > *b) {
-                    best = Some((c.to_vec(), p));
+                if best.as_ref().is_none_or(|(_, b, _)| p > *b) {
+                    best = Some((c.to_vec(), p, mutant));
                 }
                 target *= self.cfg.target_decay;
-                if let Some((test, p)) = &best {
+                if let Some((test, p, mutant)) = &best {
                     // The target only decays, so acceptance is certain; the floor bounds the
                     // rounds (about 270 at 0.95) even when every prediction is 0.
                     if *p + ACCEPT_EPS >= target || target < MIN_TARGET {
@@ -240,6 +261,7 @@ impl WoganModel {
                             test: test.clone(),
                             predicted: Some(*p),
                             invalid,
+                            mutant: *mutant,
                         });
                     }
                 }
@@ -295,5 +317,63 @@ mod tests {
         assert!(Corner.is_valid(&p.test));
         assert_eq!(p.predicted, None);
         assert!(p.invalid >= 100);
+    }
+
+    /// Every test valid; fitness is irrelevant to proposing.
+    struct Anything;
+    impl Sut for Anything {
+        type Output = ();
+        fn dim(&self) -> usize {
+            3
+        }
+        fn is_valid(&self, _: &[f32]) -> bool {
+            true
+        }
+        fn execute(&self, _: &[f32]) -> Execution<()> {
+            Execution {
+                fitness: 0.0,
+                output: (),
+            }
+        }
+    }
+
+    #[test]
+    fn mutants_are_small_steps_from_the_best_test() {
+        let mut rng = ChaCha20Rng::seed_from_u64(3);
+        let cfg = WoganConfig {
+            mutation: crate::MutationConfig {
+                share: 1.0,
+                parents: 1,
+                reshape_probability: 0.0,
+                ..Default::default()
+            },
+            ..WoganConfig::default()
+        };
+        let sampler = Sampler::new(3, SamplerConfig::default());
+        let mut model = WoganModel::new(3, &cfg, &mut rng);
+        let best = [0.8f32, -0.6, 0.1];
+        for k in 0..12 {
+            let t = sampler.sample(&mut rng);
+            model.add(&t, 0.02 * f64::from(k));
+        }
+        model.add(&best, 0.9);
+        model.train(0.0, &mut rng).unwrap();
+        for _ in 0..5 {
+            let p = model.propose(&Anything, &sampler, &mut rng).unwrap();
+            assert!(p.mutant);
+            for (c, b) in p.test.iter().zip(best) {
+                assert!(
+                    (c - b).abs() <= cfg.mutation.max_step + 1e-6,
+                    "{:?}",
+                    p.test
+                );
+            }
+        }
+        // Without mutation every proposal is the generator's.
+        let mut paper = WoganModel::new(3, &WoganConfig::default(), &mut rng);
+        paper.add(&best, 0.9);
+        paper.add(&[0.0, 0.0, 0.0], 0.1);
+        paper.train(0.0, &mut rng).unwrap();
+        assert!(!paper.propose(&Anything, &sampler, &mut rng).unwrap().mutant);
     }
 }

@@ -1,0 +1,128 @@
+//! Mutants of the best tests so far, mixed into WOGAN's candidates.
+//!
+//! Not in the paper: its generator trains for a few small steps per round, so its proposals stay
+//! close to where it started and a run can miss failures that its own data already holds. The
+//! authors proposed mutating failing tests; here a share of each candidate batch are mutants of
+//! the highest-fitness tests (a small random step per value, sometimes also one of Frenetic's
+//! reshapes: reverse, swap halves, mirror). The analyzer ranks them together with the
+//! generator's candidates, so a mutant is executed only when it is predicted to be better.
+
+use rand::{Rng, RngExt};
+use serde::{Deserialize, Serialize};
+
+/// How many candidates are mutants and how far they move.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MutationConfig {
+    /// Share of candidates that are mutants (0 = the paper's WOGAN).
+    pub share: f64,
+    /// Parents are drawn uniformly from this many highest-fitness tests.
+    pub parents: usize,
+    /// Largest change of one value (normalised units).
+    pub max_step: f32,
+    /// Probability that a mutant is also reversed, half-swapped or mirrored.
+    pub reshape_probability: f64,
+}
+
+impl Default for MutationConfig {
+    fn default() -> Self {
+        Self {
+            share: 0.0,
+            parents: 8,
+            max_step: 0.15,
+            reshape_probability: 0.25,
+        }
+    }
+}
+
+/// Indices of the `count` highest `scores` (ties broken by index).
+pub(crate) fn top_indices(scores: &[f32], count: usize) -> Vec<usize> {
+    let mut idx: Vec<usize> = (0..scores.len()).collect();
+    idx.sort_by(|&a, &b| scores[b].total_cmp(&scores[a]).then(a.cmp(&b)));
+    idx.truncate(count);
+    idx
+}
+
+/// A mutant of `parent`, values kept in `[-1, 1]`.
+pub(crate) fn mutate<R: Rng + ?Sized>(
+    parent: &[f32],
+    cfg: &MutationConfig,
+    rng: &mut R,
+) -> Vec<f32> {
+    let mut child = parent.to_vec();
+    if rng.random_bool(cfg.reshape_probability.clamp(0.0, 1.0)) {
+        match rng.random_range(0..3) {
+            0 => child.reverse(),
+            1 => {
+                let half = child.len() / 2;
+                child.rotate_left(half);
+            }
+            _ => child.iter_mut().for_each(|v| *v = -*v),
+        }
+    }
+    if cfg.max_step > 0.0 {
+        for v in &mut child {
+            *v = (*v + rng.random_range(-cfg.max_step..=cfg.max_step)).clamp(-1.0, 1.0);
+        }
+    }
+    child
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha20Rng;
+
+    #[test]
+    fn top_indices_are_the_highest_scores_first() {
+        assert_eq!(top_indices(&[0.1, 0.9, 0.5, 0.9], 3), vec![1, 3, 2]);
+        assert_eq!(top_indices(&[0.3], 5), vec![0]);
+    }
+
+    #[test]
+    fn a_mutant_stays_within_the_step_and_the_bounds() {
+        let cfg = MutationConfig {
+            reshape_probability: 0.0,
+            ..MutationConfig::default()
+        };
+        let mut rng = ChaCha20Rng::seed_from_u64(1);
+        let parent = [0.95, -0.99, 0.0, 0.5, -0.2];
+        let mut moved = false;
+        for _ in 0..200 {
+            let child = mutate(&parent, &cfg, &mut rng);
+            for (c, p) in child.iter().zip(parent) {
+                assert!((-1.0..=1.0).contains(c));
+                assert!((c - p).abs() <= cfg.max_step + 1e-6);
+                moved |= c != &p;
+            }
+        }
+        assert!(moved);
+    }
+
+    #[test]
+    fn reshapes_are_frenetics_reverse_swap_and_mirror() {
+        let cfg = MutationConfig {
+            max_step: 0.0,
+            reshape_probability: 1.0,
+            ..MutationConfig::default()
+        };
+        let mut rng = ChaCha20Rng::seed_from_u64(2);
+        let parent = [0.1, 0.2, 0.3, 0.4, 0.5];
+        let mut seen = std::collections::BTreeSet::new();
+        for _ in 0..100 {
+            let child = mutate(&parent, &cfg, &mut rng);
+            let kind = if child == [0.5, 0.4, 0.3, 0.2, 0.1] {
+                "reverse"
+            } else if child == [0.3, 0.4, 0.5, 0.1, 0.2] {
+                "swap"
+            } else if child == [-0.1, -0.2, -0.3, -0.4, -0.5] {
+                "mirror"
+            } else {
+                panic!("unexpected mutant {child:?}")
+            };
+            seen.insert(kind);
+        }
+        assert_eq!(seen.len(), 3);
+    }
+}
