@@ -35,5 +35,7 @@ for algorithm in $algorithms; do
 done
 for algorithm in $algorithms; do
   failed=$(for seed in $seeds; do field "$out/$oracle$tag.$algorithm.$seed.jsonl" failed; done | median)
-  echo "median failures, $algorithm: $failed"
+  diversity=$(for seed in $seeds; do field "$out/$oracle$tag.$algorithm.$seed.jsonl" diversity; done \
+    | sed 's/null/0/' | median)
+  echo "median failures, $algorithm: $failed; median diversity: $diversity"
 done
