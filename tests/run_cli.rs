@@ -162,6 +162,7 @@ fn bad_options_exit_2() {
         &["--oob-tolerance", "1.5"],
         &["--max-tests", "0"],
         &["--mutation-share", "1.5"],
+        &["--algorithm", "random", "--mutation-share", "0.5"],
     ] {
         let (code, records) = run(args);
         assert_eq!(code, Some(2), "{args:?}");

@@ -204,6 +204,9 @@ pub fn run(args: &RunArgs) -> Result<Status> {
         search.wogan.init_fraction = init_fraction;
     }
     if let Some(share) = args.mutation_share {
+        if search.algorithm != Algorithm::Wogan {
+            anyhow::bail!("--mutation-share applies to --algorithm wogan only");
+        }
         search.wogan.mutation.share = share;
     }
     search.validate().context("invalid search settings")?;

@@ -193,6 +193,8 @@ impl WoganModel {
     /// many rounds); validity is checked one candidate at a time and only as far as needed, and
     /// the unused rest of a batch is dropped (they are independent draws, so this is unbiased).
     /// After `max_invalid_streak` invalid candidates in a row, a random valid test is returned.
+    /// With a mutation share above 0, that share of each batch are mutants of the highest-fitness
+    /// tests, scored and validated like the generator's candidates.
     pub fn propose<S: Sut + ?Sized, R: Rng + ?Sized>(
         &self,
         sut: &S,
