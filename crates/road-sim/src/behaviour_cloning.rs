@@ -57,7 +57,7 @@ use crate::dave2::{Dave2Trainer, Dave2Weights, FRAME_PIXELS};
 use crate::dave2_inference::Dave2Net;
 use crate::driver::{Driver, Observation};
 use crate::road::Road;
-use crate::settings_check::{first_problem, non_negative, positive};
+use crate::settings_check::{all_non_negative, all_positive, first_problem, positive};
 use crate::simulation::{simulate, SimConfig};
 use crate::vehicle::{Command, VehicleParams};
 use crate::Validator;
@@ -145,24 +145,23 @@ impl CloningConfig {
                 positive(self.max_curvature_per_m) && self.max_curvature_per_m <= 0.07,
                 "max_curvature_per_m must be in (0, 0.07]",
             ),
-            (positive(self.speed_kmh), "speed_kmh must be positive"),
-            (positive(self.record_hz), "record_hz must be positive"),
-            (
-                non_negative(self.noise_max_rad),
-                "noise_max_rad must be finite and not negative",
-            ),
             (
                 positive(shortest) && shortest <= longest && longest.is_finite(),
                 "noise_hold_s must be two positive times, the shorter first",
             ),
             (self.epochs >= 1, "epochs must be at least 1"),
             (self.batch_size >= 1, "batch_size must be at least 1"),
-            (
-                positive(self.learning_rate),
-                "learning_rate must be positive",
-            ),
-            (positive(self.time_limit_s), "time_limit_s must be positive"),
         ])?;
+        all_positive(
+            "",
+            &[
+                ("speed_kmh", self.speed_kmh),
+                ("record_hz", self.record_hz),
+                ("learning_rate", self.learning_rate),
+                ("time_limit_s", self.time_limit_s),
+            ],
+        )?;
+        all_non_negative("", &[("noise_max_rad", self.noise_max_rad)])?;
         self.teacher
             .validate()
             .map_err(|problem| format!("teacher: {problem}"))

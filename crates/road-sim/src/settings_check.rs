@@ -39,7 +39,7 @@ pub(crate) fn positive(value: f64) -> bool {
 }
 
 /// Finite and not below zero.
-pub(crate) fn non_negative(value: f64) -> bool {
+fn non_negative(value: f64) -> bool {
     value.is_finite() && value >= 0.0
 }
 

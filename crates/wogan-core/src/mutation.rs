@@ -35,37 +35,34 @@ impl Default for MutationConfig {
     }
 }
 
-/// Indices of the `count` highest `scores` (ties broken by index).
+/// Indices of the `count` highest `scores`, highest first (ties broken by index).
+///
+/// A partial selection, not a sort: it runs once per proposal over every test so far.
 pub(crate) fn top_indices(scores: &[f32], count: usize) -> Vec<usize> {
+    let higher_first = |a: &usize, b: &usize| scores[*b].total_cmp(&scores[*a]).then(a.cmp(b));
     let mut idx: Vec<usize> = (0..scores.len()).collect();
-    idx.sort_by(|&a, &b| scores[b].total_cmp(&scores[a]).then(a.cmp(&b)));
-    idx.truncate(count);
+    if count < idx.len() {
+        idx.select_nth_unstable_by(count, higher_first);
+        idx.truncate(count);
+    }
+    idx.sort_unstable_by(higher_first);
     idx
 }
 
-/// A mutant of `parent`, values kept in `[-1, 1]`.
-pub(crate) fn mutate<R: Rng + ?Sized>(
-    parent: &[f32],
-    cfg: &MutationConfig,
-    rng: &mut R,
-) -> Vec<f32> {
-    let mut child = parent.to_vec();
+/// Turns `test`, a copy of a parent, into its mutant; values stay in `[-1, 1]`.
+pub(crate) fn mutate<R: Rng + ?Sized>(test: &mut [f32], cfg: &MutationConfig, rng: &mut R) {
     if rng.random_bool(cfg.reshape_probability.clamp(0.0, 1.0)) {
         match rng.random_range(0..3) {
-            0 => child.reverse(),
-            1 => {
-                let half = child.len() / 2;
-                child.rotate_left(half);
-            }
-            _ => child.iter_mut().for_each(|v| *v = -*v),
+            0 => test.reverse(),
+            1 => test.rotate_left(test.len() / 2),
+            _ => test.iter_mut().for_each(|v| *v = -*v),
         }
     }
     if cfg.max_step > 0.0 {
-        for v in &mut child {
+        for v in test {
             *v = (*v + rng.random_range(-cfg.max_step..=cfg.max_step)).clamp(-1.0, 1.0);
         }
     }
-    child
 }
 
 #[cfg(test)]
@@ -73,6 +70,12 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha20Rng;
+
+    fn mutant_of(parent: &[f32], cfg: &MutationConfig, rng: &mut ChaCha20Rng) -> Vec<f32> {
+        let mut child = parent.to_vec();
+        mutate(&mut child, cfg, rng);
+        child
+    }
 
     #[test]
     fn top_indices_are_the_highest_scores_first() {
@@ -90,7 +93,7 @@ mod tests {
         let parent = [0.95, -0.99, 0.0, 0.5, -0.2];
         let mut moved = false;
         for _ in 0..200 {
-            let child = mutate(&parent, &cfg, &mut rng);
+            let child = mutant_of(&parent, &cfg, &mut rng);
             for (c, p) in child.iter().zip(parent) {
                 assert!((-1.0..=1.0).contains(c));
                 assert!((c - p).abs() <= cfg.max_step + 1e-6);
@@ -111,7 +114,7 @@ mod tests {
         let parent = [0.1, 0.2, 0.3, 0.4, 0.5];
         let mut seen = std::collections::BTreeSet::new();
         for _ in 0..100 {
-            let child = mutate(&parent, &cfg, &mut rng);
+            let child = mutant_of(&parent, &cfg, &mut rng);
             let kind = if child == [0.5, 0.4, 0.3, 0.2, 0.1] {
                 "reverse"
             } else if child == [0.3, 0.4, 0.5, 0.1, 0.2] {

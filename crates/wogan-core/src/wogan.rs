@@ -207,9 +207,8 @@ impl WoganModel {
             .ok_or_else(|| Error::Config("WOGAN must be trained before it proposes".into()))?;
         let noise_dim = self.cfg.generator.noise_dim;
         let batch = self.cfg.candidate_batch;
-        let mutation = &self.cfg.mutation;
-        let parents = if mutation.share > 0.0 {
-            top_indices(&self.targets, mutation.parents)
+        let parents = if self.cfg.mutation.share > 0.0 {
+            top_indices(&self.targets, self.cfg.mutation.parents)
         } else {
             Vec::new()
         };
@@ -220,17 +219,7 @@ impl WoganModel {
         loop {
             let noise = uniform_noise(rng, batch, noise_dim, &self.plain);
             let mut cands = values(generator.forward(noise))?;
-            let mut is_mutant = vec![false; batch];
-            if !parents.is_empty() {
-                for (cand, flag) in cands.chunks_exact_mut(self.dim).zip(&mut is_mutant) {
-                    if rng.random_bool(mutation.share) {
-                        let parent = parents[rng.random_range(0..parents.len())];
-                        let parent = &self.tests[parent * self.dim..(parent + 1) * self.dim];
-                        cand.copy_from_slice(&mutate(parent, mutation, rng));
-                        *flag = true;
-                    }
-                }
-            }
+            let is_mutant = self.mix_in_mutants(&mut cands, &parents, rng);
             let scored = matrix(cands.clone(), batch, self.dim, &self.plain);
             let pred = values(analyzer.predict(scored))?;
             for ((c, p), mutant) in cands.chunks_exact(self.dim).zip(pred).zip(is_mutant) {
@@ -269,6 +258,30 @@ impl WoganModel {
                 }
             }
         }
+    }
+
+    /// Replaces each candidate, with probability `mutation.share`, by a mutant of one of the
+    /// `parents` (test indices); says which candidates are mutants.
+    fn mix_in_mutants<R: Rng + ?Sized>(
+        &self,
+        cands: &mut [f32],
+        parents: &[usize],
+        rng: &mut R,
+    ) -> Vec<bool> {
+        let mutation = &self.cfg.mutation;
+        let mut is_mutant = vec![false; cands.len() / self.dim];
+        if parents.is_empty() {
+            return is_mutant;
+        }
+        for (cand, flag) in cands.chunks_exact_mut(self.dim).zip(&mut is_mutant) {
+            if rng.random_bool(mutation.share) {
+                let parent = parents[rng.random_range(0..parents.len())];
+                cand.copy_from_slice(&self.tests[parent * self.dim..(parent + 1) * self.dim]);
+                mutate(cand, mutation, rng);
+                *flag = true;
+            }
+        }
+        is_mutant
     }
 }
 
