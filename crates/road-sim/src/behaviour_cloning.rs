@@ -46,9 +46,10 @@
 //! failure rate across the whole 0.5–10% band: 6 epochs fail 3.7% (graded BOLP on 0.7%), 5
 //! epochs with seed 2 none, its largest `fitness_distance` 0.30, far below a failure's 0.43.
 //!
-//! With mutants among WOGAN's candidates (`wogan run --mutation-share 0.5`) the region student
-//! above is no obstacle: 226 190 214 1 213 failures with the distance, 211 221 215 200 220 with
-//! BOLP; the random phase puts a few of its failures in the data and the mutants exploit them.
+//! With mutants among WOGAN's candidates (`wogan run --mutation-share 0.5`; the parents here and
+//! below were the 8 best tests, `min_parent_distance` 0) the region student above is no
+//! obstacle: 226 190 214 1 213 failures with the distance, 211 221 215 200 220 with BOLP; the
+//! random phase puts a few of its failures in the data and the mutants exploit them.
 //!
 //! Where the graded BOLP comes from: the teacher itself, at 25 km/h, fails none of the reference
 //! roads but cuts corners far enough for a graded BOLP on 4.3% of them; its students, imitating

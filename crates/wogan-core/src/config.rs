@@ -302,6 +302,10 @@ impl RunConfig {
         )?;
         check(m.parents >= 1, "wogan.mutation.parents must be at least 1")?;
         check(
+            m.min_parent_distance.is_finite() && m.min_parent_distance >= 0.0,
+            "wogan.mutation.min_parent_distance must be finite and non-negative",
+        )?;
+        check(
             m.max_step.is_finite() && m.max_step >= 0.0,
             "wogan.mutation.max_step must be finite and non-negative",
         )?;
@@ -337,6 +341,10 @@ mod tests {
         for (json, field) in [
             (r#"{"share": 1.5}"#, "wogan.mutation.share"),
             (r#"{"parents": 0}"#, "wogan.mutation.parents"),
+            (
+                r#"{"min_parent_distance": -1}"#,
+                "wogan.mutation.min_parent_distance",
+            ),
             (r#"{"max_step": -0.1}"#, "wogan.mutation.max_step"),
             (
                 r#"{"reshape_probability": 2}"#,

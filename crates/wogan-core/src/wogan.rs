@@ -13,7 +13,7 @@ use crate::bins::{biased_batch, bin_of};
 use crate::config::WoganConfig;
 use crate::error::Error;
 use crate::generator::Generator;
-use crate::mutation::{mutate, top_indices};
+use crate::mutation::{mutate, parent_indices};
 use crate::nn::{matrix, uniform_noise, values};
 use crate::sampler::Sampler;
 use crate::sut::Sut;
@@ -208,7 +208,7 @@ impl WoganModel {
         let noise_dim = self.cfg.generator.noise_dim;
         let batch = self.cfg.candidate_batch;
         let parents = if self.cfg.mutation.share > 0.0 {
-            top_indices(&self.targets, self.cfg.mutation.parents)
+            parent_indices(&self.tests, self.dim, &self.targets, &self.cfg.mutation)
         } else {
             Vec::new()
         };
