@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 pub struct MutationConfig {
     /// Share of candidates that are mutants (0 = the paper's WOGAN).
     pub share: f64,
-    /// Parents are drawn uniformly from this many highest-fitness tests.
+    /// Parents are drawn uniformly from this many of the highest-fitness tests.
     pub parents: usize,
     /// A test becomes a parent only this far (Euclidean, normalised units) from every
     /// higher-fitness parent, so that mutants spread over several regions (0: the best tests,
@@ -47,7 +47,8 @@ impl Default for MutationConfig {
 
 /// Indices of the `count` highest `scores`, highest first (ties broken by index).
 ///
-/// A partial selection, not a sort: it runs once per proposal over every test so far.
+/// A partial selection, not a sort, when `count` is small: it runs once per proposal over every
+/// test so far.
 fn top_indices(scores: &[f32], count: usize) -> Vec<usize> {
     let higher_first = |a: &usize, b: &usize| scores[*b].total_cmp(&scores[*a]).then(a.cmp(b));
     let mut idx: Vec<usize> = (0..scores.len()).collect();
@@ -60,7 +61,8 @@ fn top_indices(scores: &[f32], count: usize) -> Vec<usize> {
 }
 
 /// Indices of up to `cfg.parents` parents among `tests` (`dim` values each), highest `scores`
-/// first, each at least `cfg.min_parent_distance` from those before it.
+/// first, each at least `cfg.min_parent_distance` from those before it (fewer when the tests
+/// crowd together: distinct regions matter more than the count).
 pub(crate) fn parent_indices(
     tests: &[f32],
     dim: usize,
