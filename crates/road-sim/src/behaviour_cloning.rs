@@ -60,8 +60,9 @@
 //! found 23 2 0 3 11 failures with the distance and 24 1 3 0 1 with BOLP (seeds 1–5); with
 //! mutants (share 0.25) 133 141 140 111 148 and 185 164 199 130 131, though the BOLP runs' random
 //! phases held one to four roads of graded BOLP and no failure: one foothold is enough for a
-//! search that exploits. Its neighbours (noise 0.25; 0.2 with 3 epochs, seed 2, or roads up to
-//! 0.026 or 0.028/m) fail 15.7%, 7.7%, 10.7%, 0.3% and 0% with a graded BOLP on 3.7–16%.
+//! search that exploits. Its neighbours (noise 0.25; 0.2 with 3 or 5 epochs, seed 2 or 3, or
+//! roads up to 0.026 or 0.028/m) fail 15.7%, 7.7%, 0%, 10.7%, 11.7%, 0.3% and 0% with a graded
+//! BOLP on 2.3–16%.
 
 use crate::beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
 use crate::camera::{Camera, CameraParams, Frame, RoadScene};
