@@ -20,6 +20,8 @@ algorithms=${ALGORITHMS:-random wogan}
 tag=${TAG:+.$TAG}
 mkdir -p "$out"
 field() { grep '"type":"summary"' "$1" | grep -o "\"$2\":[^,}]*" | cut -d: -f2; }
+# A run without failures has no diversity (null); it counts as 0.
+diversity_of() { field "$1" diversity | sed 's/null/0/'; }
 # Median and mean: outcomes are bimodal (a run that reaches the failure boundary early exploits
 # it), so the two can tell different stories.
 median() { sort -g | awk '{v[NR]=$1; s+=$1} END {m = NR%2 ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2; print m " (mean " s/NR ")"}'; }
@@ -30,12 +32,11 @@ for algorithm in $algorithms; do
     ./target/release/wogan run --quiet --oracle "$oracle" --algorithm "$algorithm" \
       --max-tests "$tests" --seed "$seed" "$@" --out "$file"
     printf '%-6s %-8s %8s %10.3f %8.1f\n' "$seed" "$algorithm" "$(field "$file" failed)" \
-      "$(field "$file" diversity | sed 's/null/0/')" "$(field "$file" wall_s)"
+      "$(diversity_of "$file")" "$(field "$file" wall_s)"
   done
 done
 for algorithm in $algorithms; do
   failed=$(for seed in $seeds; do field "$out/$oracle$tag.$algorithm.$seed.jsonl" failed; done | median)
-  diversity=$(for seed in $seeds; do field "$out/$oracle$tag.$algorithm.$seed.jsonl" diversity; done \
-    | sed 's/null/0/' | median)
+  diversity=$(for seed in $seeds; do diversity_of "$out/$oracle$tag.$algorithm.$seed.jsonl"; done | median)
   echo "median failures, $algorithm: $failed; median diversity: $diversity"
 done

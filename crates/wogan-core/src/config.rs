@@ -237,24 +237,34 @@ fn check(ok: bool, what: &str) -> Result<(), Error> {
     }
 }
 
+/// Names `field` unless `value` is a share or probability, in `[0, 1]`.
+fn check_unit_interval(value: f64, field: &str) -> Result<(), Error> {
+    check(
+        (0.0..=1.0).contains(&value),
+        &format!("{field} must be in [0, 1]"),
+    )
+}
+
+/// Names `field` unless `value` is finite and not negative.
+fn check_non_negative(value: f32, field: &str) -> Result<(), Error> {
+    check(
+        value.is_finite() && value >= 0.0,
+        &format!("{field} must be finite and non-negative"),
+    )
+}
+
 impl RunConfig {
     /// Rejects values the algorithms cannot work with.
     pub fn validate(&self) -> Result<(), Error> {
         check(self.jobs >= 1, "jobs must be at least 1")?;
         let s = &self.sampler;
-        check(
-            s.max_step.is_finite() && s.max_step >= 0.0,
-            "sampler.max_step must be finite and non-negative",
-        )?;
+        check_non_negative(s.max_step, "sampler.max_step")?;
         check(
             s.max_attempts >= 1,
             "sampler.max_attempts must be at least 1",
         )?;
         let w = &self.wogan;
-        check(
-            (0.0..=1.0).contains(&w.init_fraction),
-            "wogan.init_fraction must be in [0, 1]",
-        )?;
+        check_unit_interval(w.init_fraction, "wogan.init_fraction")?;
         check(w.bins >= 1, "wogan.bins must be at least 1")?;
         check(w.batch_size >= 1, "wogan.batch_size must be at least 1")?;
         check(w.alpha_max.is_finite(), "wogan.alpha_max must be finite")?;
@@ -296,23 +306,11 @@ impl RunConfig {
             "wogan.wgan.critic_steps must be >= 1 and noise_batch >= 2 (batch normalisation)",
         )?;
         let m = &w.mutation;
-        check(
-            (0.0..=1.0).contains(&m.share),
-            "wogan.mutation.share must be in [0, 1]",
-        )?;
+        check_unit_interval(m.share, "wogan.mutation.share")?;
         check(m.parents >= 1, "wogan.mutation.parents must be at least 1")?;
-        check(
-            m.min_parent_distance.is_finite() && m.min_parent_distance >= 0.0,
-            "wogan.mutation.min_parent_distance must be finite and non-negative",
-        )?;
-        check(
-            m.max_step.is_finite() && m.max_step >= 0.0,
-            "wogan.mutation.max_step must be finite and non-negative",
-        )?;
-        check(
-            (0.0..=1.0).contains(&m.reshape_probability),
-            "wogan.mutation.reshape_probability must be in [0, 1]",
-        )?;
+        check_non_negative(m.min_parent_distance, "wogan.mutation.min_parent_distance")?;
+        check_non_negative(m.max_step, "wogan.mutation.max_step")?;
+        check_unit_interval(m.reshape_probability, "wogan.mutation.reshape_probability")?;
         Ok(())
     }
 }

@@ -218,9 +218,16 @@ impl WoganModel {
         let mut streak = 0usize;
         loop {
             let noise = uniform_noise(rng, batch, noise_dim, &self.plain);
-            let mut cands = values(generator.forward(noise))?;
+            let generated = generator.forward(noise);
+            let mut cands = values(generated.clone())?;
             let is_mutant = self.mix_in_mutants(&mut cands, &parents, rng);
-            let scored = matrix(cands.clone(), batch, self.dim, &self.plain);
+            // Only a batch with mutants needs a new tensor; the paper's path scores the
+            // generator's output as it is.
+            let scored = if is_mutant.contains(&true) {
+                matrix(cands.clone(), batch, self.dim, &self.plain)
+            } else {
+                generated
+            };
             let pred = values(analyzer.predict(scored))?;
             for ((c, p), mutant) in cands.chunks_exact(self.dim).zip(pred).zip(is_mutant) {
                 if !sut.is_valid(c) {
