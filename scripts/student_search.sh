@@ -35,6 +35,7 @@ done
 wait
 for seed in $seeds; do
   name="$out/$tag.seed$seed"
-  printf 'seed %-4s %s | %s\n' "$seed" "$(head -1 "$name.screen")" \
+  printf 'seed %-4s %s | near the edge untouched %s | %s\n' "$seed" "$(head -1 "$name.screen")" \
+    "$(grep 'untouched' "$name.screen" | awk '{print $(NF-1), $NF}')" \
     "$(grep -o 'deciles:.*' "$name.screen" | awk '{print "fitness_distance p90 " $(NF-1) ", max " $NF}')"
 done
