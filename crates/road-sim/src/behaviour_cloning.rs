@@ -69,17 +69,17 @@
 //!
 //! Where only the distance fitness has a slope: `scripts/screen_driver.sh` counts the roads on
 //! which the car's centre comes within 0.2 m of where its body would touch the lane edge without
-//! touching it (BOLP at most 0.002). On every student that fails some reference roads that count
-//! is about the graded-BOLP count or below: the built-in one 29 against 27; noise 0.05, 0.08 and
-//! 0.25: 31/25, 22/32, 27/21; noise 0.2 with seed 2, seed 3 or 3 epochs: 18/32, 20/38, 47/49; the
-//! shorter look-ahead teachers' students 0–4 against 0–31; noise 0.2 with seeds 13, 14, 16 and
-//! 17 (5%, 0.7%, 8% and 1% failures) 25/24, 26/28, 25/29, 23/20. A student that nears the edge
-//! touches it about as often, and each touch is a foothold for BOLP. Only students that fail none
-//! of the reference roads hold the edge off: noise 0.2 (23 near, 4 graded), with 5 epochs (26/7),
-//! on roads up to 0.028/m (22/11), seed 15 (24/9); the teacher itself 35/13. On the first, over seeds 1–10, WOGAN
-//! found 23 2 0 3 11 0 2 3 13 31 failures with the distance and 24 1 3 0 1 0 0 0 35 28 with BOLP,
-//! random search none in 3,000 tests: medians 3 and 1, but means 8.8 and 9.2. On every student
-//! tried, the distance changes when WOGAN finds its first failure, not how many it finds.
+//! touching it (BOLP at most 0.002). On every student that fails some reference roads that count is
+//! about the graded-BOLP count or below: the built-in one 29 against 27; noise 0.05, 0.08 and 0.25:
+//! 31/25, 22/32, 27/21; noise 0.2 with seed 2, seed 3 or 3 epochs: 18/32, 20/38, 47/49; the shorter
+//! look-ahead teachers' students 0–4 against 0–31; noise 0.2 with seeds 13, 14, 16 and 17 (5%,
+//! 0.7%, 8% and 1% failures) 25/24, 26/28, 25/29, 23/20. A student that nears the edge touches it
+//! about as often, and each touch is a foothold for BOLP. Only students that fail none of the
+//! reference roads hold the edge off: noise 0.2 (23 near, 4 graded), with 5 epochs (26/7), on roads
+//! up to 0.028/m (22/11), seed 15 (24/9); the teacher itself 35/13. On the first, over seeds 1–10,
+//! WOGAN found 23 2 0 3 11 0 2 3 13 31 failures with the distance and 24 1 3 0 1 0 0 0 35 28 with
+//! BOLP, random search none in 3,000 tests: medians 3 and 1, but means 8.8 and 9.2. On every
+//! student tried, the distance changes when WOGAN finds its first failure, not how many it finds.
 
 use crate::beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
 use crate::camera::{Camera, CameraParams, Frame, RoadScene};

@@ -67,13 +67,12 @@
 //! # Beyond the paper: mutants among the candidates
 //!
 //! With [`MutationConfig::share`] above 0 (`wogan run --mutation-share`), that share of each
-//! candidate batch are mutants of the highest-fitness tests so far that lie apart from one
-//! another ([`MutationConfig`]); the
-//! analyzer ranks them with the generator's candidates and the test line's `phase` says
-//! `"mutant"` when one is executed. The default, 0, is the paper's WOGAN. The authors proposed
-//! mutating failing tests for diversity; measured here it also lifts the failure count, because
-//! the generator (a few steps at learning rate 5e-5 per round) barely leaves its starting
-//! distribution and so rarely returns to failures its own data holds.
+//! candidate batch are mutants of the highest-fitness tests so far that lie apart from one another
+//! ([`MutationConfig`]); the analyzer ranks them with the generator's candidates and the test
+//! line's `phase` says `"mutant"` when one is executed. The default, 0, is the paper's WOGAN. The
+//! authors proposed mutating failing tests for diversity; measured here it also lifts the failure
+//! count, because the generator (a few steps at learning rate 5e-5 per round) barely leaves its
+//! starting distribution and so rarely returns to failures its own data holds.
 //!
 //! # The critic
 //!
