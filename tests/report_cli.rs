@@ -86,6 +86,18 @@ fn report_numbers_match_hand_computation() {
     );
     // Only seed 3 has two or more failures; its summary record says diversity 3.2861...
     assert!(report.contains("| 3.286 | – | 1 |"), "{report}");
+    // Seed 3 fails first at test 23, then 4 of the 7 tests after it; seed 4 at test 5, then none
+    // of 25: means 14 and 0.286, SDs sqrt(2 * 9^2) = 12.728 and sqrt(2 * 0.2857^2) = 0.404.
+    assert!(
+        report.contains(
+            "| first failing test (a run without one: tests executed + 1) | 14.000 | 12.728 | 2 |"
+        ),
+        "{report}"
+    );
+    assert!(
+        report.contains("| failure rate after the first failing test (runs with tests after one) | 0.286 | 0.404 | 2 |"),
+        "{report}"
+    );
     // DIR_COV of the six failing tests: 9, 8, 5, 6, 6 (seed 3) and 11 (seed 4) of 26.
     assert!(
         report.contains("DIR_COV values hit: 5/26, 6/26, 8/26, 9/26, 11/26."),
@@ -165,6 +177,14 @@ fn groups_by_configuration_and_compares_with_vs() {
         "{report}"
     );
     assert!(report.contains("| diversity |"), "{report}");
+    // First failing tests [23, 5] vs [5, 6]: midranks 4, 1.5 vs 1.5, 3; R1 = 5.5, U1 = 2.5.
+    assert!(
+        report.contains(
+            "| first failing test (a run without one: tests executed + 1) | 14.000 (12.728) n=2 \
+             | 5.500 (0.707) n=2 | 2.5 |"
+        ),
+        "{report}"
+    );
     assert!(out.join("roads.g2.svg").exists());
 }
 

@@ -30,6 +30,11 @@ pub struct RunMeasures {
     pub training_s: f64,
     /// Median pairwise distance of the failing roads' heading profiles; `None` below two failures.
     pub diversity: Option<f64>,
+    /// Position (1-based) of the first failing test; `None` when no test failed.
+    pub first_failure: Option<usize>,
+    /// Share of the tests after the first failing one that failed too (how well a search exploits
+    /// a failure once it has one); `None` when no test follows a failure.
+    pub failure_rate_after_first: Option<f64>,
 }
 
 impl RunMeasures {
@@ -44,6 +49,9 @@ impl RunMeasures {
             .map(|road| heading_profile(&road.interpolated))
             .collect();
         let seed = run.header.as_ref().and_then(|h| h.seed).unwrap_or(0);
+        let first_index = run.tests.iter().position(|t| t.failed());
+        let after_first = first_index.map_or(&[][..], |i| &run.tests[i + 1..]);
+        let failures_after_first = after_first.iter().filter(|t| t.failed()).count();
         Self {
             executed: run.tests.len(),
             failures: run.failures(),
@@ -51,7 +59,16 @@ impl RunMeasures {
             simulated_s: run.tests.iter().filter_map(|t| t.sim_time_s).sum(),
             training_s: run.train_ms / 1000.0,
             diversity: median_pairwise_distance(&profiles, seed).median_distance,
+            first_failure: first_index.map(|i| i + 1),
+            failure_rate_after_first: (!after_first.is_empty())
+                .then(|| failures_after_first as f64 / after_first.len() as f64),
         }
+    }
+
+    /// The first failing test's position, or one past the last test when none failed, so that
+    /// runs without a failure rank behind every run with one.
+    pub fn first_failure_or_past_end(&self) -> f64 {
+        self.first_failure.unwrap_or(self.executed + 1) as f64
     }
 }
 
@@ -125,6 +142,10 @@ pub struct GroupFigures {
     pub training_s: Spread,
     /// Diversity over the runs with at least two failures.
     pub diversity: Spread,
+    /// Position of the first failing test (one past the end for a run without one).
+    pub first_failure: Spread,
+    /// Failure rate after the first failing test, over the runs with tests after one.
+    pub failure_rate_after_first: Spread,
     /// DIR_COV buckets (k of k/26) hit by the failing tests.
     pub dir_cov_buckets: BTreeSet<u32>,
     /// DIR_COV of the failing tests (bins: the buckets above).
@@ -168,6 +189,8 @@ impl GroupFigures {
             simulated_s: Spread::of(&column(&|m| Some(m.simulated_s))),
             training_s: Spread::of(&column(&|m| Some(m.training_s))),
             diversity: Spread::of(&column(&|m| m.diversity)),
+            first_failure: Spread::of(&column(&|m| Some(m.first_failure_or_past_end()))),
+            failure_rate_after_first: Spread::of(&column(&|m| m.failure_rate_after_first)),
             dir_cov_buckets,
             dir_cov,
             max_curv: FeatureCoverage::of(&feature(&|t| t.max_curv), MAX_CURV_BIN_PER_M),
@@ -185,5 +208,64 @@ impl GroupFigures {
     /// Diversity of each run that has one.
     pub fn diversities(&self) -> Vec<f64> {
         self.runs.iter().filter_map(|m| m.diversity).collect()
+    }
+
+    /// First failing test of each run (one past the end for a run without one).
+    pub fn first_failures(&self) -> Vec<f64> {
+        self.runs
+            .iter()
+            .map(RunMeasures::first_failure_or_past_end)
+            .collect()
+    }
+
+    /// Failure rate after the first failure, of each run that has one.
+    pub fn failure_rates_after_first(&self) -> Vec<f64> {
+        self.runs
+            .iter()
+            .filter_map(|m| m.failure_rate_after_first)
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::run_file::TestRecord;
+
+    fn run_of(outcomes: &[&str]) -> RunFile {
+        let tests: Vec<TestRecord> = outcomes
+            .iter()
+            .enumerate()
+            .map(|(i, outcome)| {
+                let record =
+                    serde_json::json!({"id": i + 1, "road_points": [], "outcome": outcome});
+                serde_json::from_value(record).expect("a test record")
+            })
+            .collect();
+        RunFile {
+            path: "run.jsonl".into(),
+            header: None,
+            tests,
+            train_ms: 0.0,
+            summary: None,
+            problems: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn first_failure_and_the_rate_after_it() {
+        let run = RunMeasures::of(&run_of(&["PASS", "FAIL", "PASS", "FAIL", "FAIL"]));
+        assert_eq!(run.first_failure, Some(2));
+        assert_eq!(run.first_failure_or_past_end(), 2.0);
+        assert_eq!(run.failure_rate_after_first, Some(2.0 / 3.0));
+
+        let never = RunMeasures::of(&run_of(&["PASS", "ERROR"]));
+        assert_eq!(never.first_failure, None);
+        assert_eq!(never.first_failure_or_past_end(), 3.0);
+        assert_eq!(never.failure_rate_after_first, None);
+
+        let at_the_end = RunMeasures::of(&run_of(&["PASS", "FAIL"]));
+        assert_eq!(at_the_end.first_failure, Some(2));
+        assert_eq!(at_the_end.failure_rate_after_first, None);
     }
 }

@@ -80,6 +80,12 @@ pub fn report(sections: &[GroupSection], compare: bool, problems: &[String]) -> 
     text
 }
 
+/// Row name of the first failing test's position.
+const FIRST_FAILURE: &str = "first failing test (a run without one: tests executed + 1)";
+/// Row name of the failure rate after the first failure.
+const RATE_AFTER_FIRST: &str =
+    "failure rate after the first failing test (runs with tests after one)";
+
 /// One group's section.
 fn group(number_1: usize, section: &GroupSection) -> String {
     let f = &section.figures;
@@ -106,6 +112,8 @@ fn group(number_1: usize, section: &GroupSection) -> String {
         "diversity (median pairwise heading-profile distance of failing roads; runs with ≥ 2 failures)",
         &f.diversity,
     ));
+    text.push_str(&spread_row(FIRST_FAILURE, &f.first_failure));
+    text.push_str(&spread_row(RATE_AFTER_FIRST, &f.failure_rate_after_first));
     let failing: usize = f.runs.iter().map(|m| m.failures).sum();
     let _ = writeln!(
         text,
@@ -177,6 +185,20 @@ fn comparison(a: &GroupSection, b: &GroupSection) -> String {
             b.figures.diversities(),
             &a.figures.diversity,
             &b.figures.diversity,
+        ),
+        (
+            FIRST_FAILURE,
+            a.figures.first_failures(),
+            b.figures.first_failures(),
+            &a.figures.first_failure,
+            &b.figures.first_failure,
+        ),
+        (
+            RATE_AFTER_FIRST,
+            a.figures.failure_rates_after_first(),
+            b.figures.failure_rates_after_first(),
+            &a.figures.failure_rate_after_first,
+            &b.figures.failure_rate_after_first,
         ),
     ];
     for (name, x, y, sa, sb) in rows {
