@@ -49,19 +49,20 @@ impl RunMeasures {
             .map(|road| heading_profile(&road.interpolated))
             .collect();
         let seed = run.header.as_ref().and_then(|h| h.seed).unwrap_or(0);
+        let failures = run.failures();
         let first_index = run.tests.iter().position(|t| t.failed());
-        let after_first = first_index.map_or(&[][..], |i| &run.tests[i + 1..]);
-        let failures_after_first = after_first.iter().filter(|t| t.failed()).count();
+        let tests_after_first = first_index.map_or(0, |i| run.tests.len() - i - 1);
         Self {
             executed: run.tests.len(),
-            failures: run.failures(),
+            failures,
             generation_ms_per_test: mean(&generation),
             simulated_s: run.tests.iter().filter_map(|t| t.sim_time_s).sum(),
             training_s: run.train_ms / 1000.0,
             diversity: median_pairwise_distance(&profiles, seed).median_distance,
             first_failure: first_index.map(|i| i + 1),
-            failure_rate_after_first: (!after_first.is_empty())
-                .then(|| failures_after_first as f64 / after_first.len() as f64),
+            // Every failure but the first comes after it.
+            failure_rate_after_first: (tests_after_first > 0)
+                .then(|| (failures - 1) as f64 / tests_after_first as f64),
         }
     }
 
