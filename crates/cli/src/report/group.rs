@@ -163,9 +163,7 @@ impl GroupFigures {
     /// Figures of `runs`.
     pub fn of(runs: &[&RunFile]) -> Self {
         let measures: Vec<RunMeasures> = runs.iter().map(|r| RunMeasures::of(r)).collect();
-        let column = |f: &dyn Fn(&RunMeasures) -> Option<f64>| -> Vec<f64> {
-            measures.iter().filter_map(f).collect()
-        };
+        let column = |measure| values_of(&measures, measure);
         let executed_total: usize = measures.iter().map(|m| m.executed).sum();
         let failed_total: usize = measures.iter().map(|m| m.failures).sum();
         let failing: Vec<_> = runs
@@ -183,15 +181,15 @@ impl GroupFigures {
         let mut dir_cov = FeatureCoverage::of(&dir_cov_values, 1.0 / 26.0);
         dir_cov.bins = dir_cov_buckets.len();
         Self {
-            executed: Spread::of(&column(&|m| Some(m.executed as f64))),
-            failures: Spread::of(&column(&|m| Some(m.failures as f64))),
+            executed: Spread::of(&column(|m| Some(m.executed as f64))),
+            failures: Spread::of(&column(|m| Some(m.failures as f64))),
             failure_rate: (executed_total > 0).then(|| failed_total as f64 / executed_total as f64),
-            generation_ms: Spread::of(&column(&|m| m.generation_ms_per_test)),
-            simulated_s: Spread::of(&column(&|m| Some(m.simulated_s))),
-            training_s: Spread::of(&column(&|m| Some(m.training_s))),
-            diversity: Spread::of(&column(&|m| m.diversity)),
-            first_failure: Spread::of(&column(&|m| Some(m.first_failure_or_past_end()))),
-            failure_rate_after_first: Spread::of(&column(&|m| m.failure_rate_after_first)),
+            generation_ms: Spread::of(&column(|m| m.generation_ms_per_test)),
+            simulated_s: Spread::of(&column(|m| Some(m.simulated_s))),
+            training_s: Spread::of(&column(|m| Some(m.training_s))),
+            diversity: Spread::of(&column(|m| m.diversity)),
+            first_failure: Spread::of(&column(|m| Some(m.first_failure_or_past_end()))),
+            failure_rate_after_first: Spread::of(&column(|m| m.failure_rate_after_first)),
             dir_cov_buckets,
             dir_cov,
             max_curv: FeatureCoverage::of(&feature(&|t| t.max_curv), MAX_CURV_BIN_PER_M),
@@ -201,31 +199,18 @@ impl GroupFigures {
         }
     }
 
-    /// Failures of each run, as numbers for a test.
-    pub fn failure_counts(&self) -> Vec<f64> {
-        self.runs.iter().map(|m| m.failures as f64).collect()
+    /// One measure of each run where it is defined (the samples of a test between groups).
+    pub fn values(&self, measure: Measure) -> Vec<f64> {
+        values_of(&self.runs, measure)
     }
+}
 
-    /// Diversity of each run that has one.
-    pub fn diversities(&self) -> Vec<f64> {
-        self.runs.iter().filter_map(|m| m.diversity).collect()
-    }
+/// One figure of a run, `None` where the run does not define it.
+pub type Measure = fn(&RunMeasures) -> Option<f64>;
 
-    /// First failing test of each run (one past the end for a run without one).
-    pub fn first_failures(&self) -> Vec<f64> {
-        self.runs
-            .iter()
-            .map(RunMeasures::first_failure_or_past_end)
-            .collect()
-    }
-
-    /// Failure rate after the first failure, of each run that has one.
-    pub fn failure_rates_after_first(&self) -> Vec<f64> {
-        self.runs
-            .iter()
-            .filter_map(|m| m.failure_rate_after_first)
-            .collect()
-    }
+/// `measure` of each run where it is defined.
+fn values_of(runs: &[RunMeasures], measure: Measure) -> Vec<f64> {
+    runs.iter().filter_map(measure).collect()
 }
 
 #[cfg(test)]

@@ -2,7 +2,8 @@
 //! pictures, and (with `--vs`) the two groups side by side with Mann–Whitney p-values.
 
 use super::group::{
-    FeatureCoverage, GroupFigures, Spread, MAX_CURV_BIN_PER_M, MEAN_LP_BIN_M, STD_SA_BIN_DEG,
+    FeatureCoverage, GroupFigures, Measure, Spread, MAX_CURV_BIN_PER_M, MEAN_LP_BIN_M,
+    STD_SA_BIN_DEG,
 };
 use crate::stats::{mann_whitney, PMethod};
 use std::fmt::Write;
@@ -171,37 +172,15 @@ fn comparison(a: &GroupSection, b: &GroupSection) -> String {
     let _ = writeln!(text, "- {}\n- {}\n", a.label, b.label);
     text.push_str("| measure | A mean (SD) | B mean (SD) | U of A | p (two-sided) | method |\n");
     text.push_str("|---|---|---|---|---|---|\n");
-    let rows = [
-        (
-            "failures per run",
-            a.figures.failure_counts(),
-            b.figures.failure_counts(),
-            &a.figures.failures,
-            &b.figures.failures,
-        ),
-        (
-            "diversity",
-            a.figures.diversities(),
-            b.figures.diversities(),
-            &a.figures.diversity,
-            &b.figures.diversity,
-        ),
-        (
-            FIRST_FAILURE,
-            a.figures.first_failures(),
-            b.figures.first_failures(),
-            &a.figures.first_failure,
-            &b.figures.first_failure,
-        ),
-        (
-            RATE_AFTER_FIRST,
-            a.figures.failure_rates_after_first(),
-            b.figures.failure_rates_after_first(),
-            &a.figures.failure_rate_after_first,
-            &b.figures.failure_rate_after_first,
-        ),
+    // The means shown are those of the samples the test compares.
+    let rows: [(&str, Measure); 4] = [
+        ("failures per run", |m| Some(m.failures as f64)),
+        ("diversity", |m| m.diversity),
+        (FIRST_FAILURE, |m| Some(m.first_failure_or_past_end())),
+        (RATE_AFTER_FIRST, |m| m.failure_rate_after_first),
     ];
-    for (name, x, y, sa, sb) in rows {
+    for (name, measure) in rows {
+        let (x, y) = (a.figures.values(measure), b.figures.values(measure));
         let both = |s: &Spread| format!("{} ({}) n={}", number(s.mean), number(s.sd), s.count);
         let (u, p, method) = match mann_whitney(&x, &y) {
             Some(r) => {
@@ -216,8 +195,8 @@ fn comparison(a: &GroupSection, b: &GroupSection) -> String {
         let _ = writeln!(
             text,
             "| {name} | {} | {} | {u} | {p} | {method} |",
-            both(sa),
-            both(sb)
+            both(&Spread::of(&x)),
+            both(&Spread::of(&y))
         );
     }
     text.push('\n');
