@@ -117,6 +117,35 @@ fn mutants_join_the_candidates_when_asked_for() {
 }
 
 #[test]
+fn a_slower_target_decay_ranks_more_candidates() {
+    let ranked_per_test = |decay: &str| {
+        let (code, records) = run(&["--max-tests", "20", "--seed", "4", "--target-decay", decay]);
+        assert_eq!(code, Some(0));
+        assert_eq!(
+            records[0]["config"]["search"]["wogan"]["target_decay"],
+            decay.parse::<f64>().unwrap()
+        );
+        let ranked: Vec<u64> = of_type(&records, "test")
+            .iter()
+            .map(|t| t["ranked_candidates"].as_u64().unwrap())
+            .collect();
+        assert!(
+            ranked[..4].iter().all(|&r| r == 0),
+            "the random phase ranks nothing"
+        );
+        assert!(
+            ranked[4..].iter().all(|&r| r > 0),
+            "WOGAN ranks its choices"
+        );
+        ranked.iter().sum::<u64>() as f64 / 16.0
+    };
+    // The target falls below any prediction within a few candidates at 0.5, but only after
+    // dozens at 0.99.
+    let (fast, slow) = (ranked_per_test("0.5"), ranked_per_test("0.99"));
+    assert!(slow > 5.0 * fast, "0.99 ranks {slow} per test, 0.5 {fast}");
+}
+
+#[test]
 fn sigint_writes_a_summary_and_exits_130() {
     let mut child = Command::new(env!("CARGO_BIN_EXE_wogan"))
         .args([
@@ -163,6 +192,8 @@ fn bad_options_exit_2() {
         &["--max-tests", "0"],
         &["--mutation-share", "1.5"],
         &["--algorithm", "random", "--mutation-share", "0.5"],
+        &["--target-decay", "1"],
+        &["--algorithm", "random", "--target-decay", "0.99"],
     ] {
         let (code, records) = run(args);
         assert_eq!(code, Some(2), "{args:?}");

@@ -60,6 +60,10 @@ pub struct RunArgs {
     /// analyzer with the generator's (not in the paper; 0 is the paper's WOGAN) [default: 0].
     #[arg(long, value_parser = share)]
     pub mutation_share: Option<f64>,
+    /// Factor applied to WOGAN's acceptance target per valid candidate: closer to 1 ranks more
+    /// candidates per test (0.95 is the paper's) [default: 0.95].
+    #[arg(long, value_parser = fraction)]
+    pub target_decay: Option<f64>,
     /// JSON file overriding the paper's defaults: `{"search": {...}, "sim": {...}}` (the
     /// header's `config.search` and `config.sim` show every field). Options given on the command
     /// line win over the file.
@@ -145,6 +149,7 @@ struct TestRecord<'a> {
     fitness: f64,
     predicted_fitness: Option<f64>,
     invalid_candidates: usize,
+    ranked_candidates: usize,
     generation_ms: f64,
     #[serde(flatten)]
     execution: &'a RoadExecution,
@@ -209,6 +214,12 @@ pub fn run(args: &RunArgs) -> Result<Status> {
         }
         search.wogan.mutation.share = share;
     }
+    if let Some(decay) = args.target_decay {
+        if search.algorithm != Algorithm::Wogan {
+            anyhow::bail!("--target-decay applies to --algorithm wogan only");
+        }
+        search.wogan.target_decay = decay;
+    }
     search.validate().context("invalid search settings")?;
     sim.validate()
         .map_err(|problem| anyhow::anyhow!("invalid simulation settings: {problem}"))?;
@@ -255,6 +266,7 @@ pub fn run(args: &RunArgs) -> Result<Status> {
                 fitness,
                 predicted_fitness,
                 invalid_candidates,
+                ranked_candidates,
                 generation_ms,
                 output,
                 ..
@@ -271,6 +283,7 @@ pub fn run(args: &RunArgs) -> Result<Status> {
                     fitness: *fitness,
                     predicted_fitness: *predicted_fitness,
                     invalid_candidates: *invalid_candidates,
+                    ranked_candidates: *ranked_candidates,
                     generation_ms: *generation_ms,
                     execution: output,
                 })

@@ -54,6 +54,8 @@ pub enum Event<O> {
         predicted_fitness: Option<f64>,
         /// Invalid candidates rejected since the previous executed test.
         invalid_candidates: usize,
+        /// Valid candidates the analyzer ranked to choose it (0 in the random phase).
+        ranked_candidates: usize,
         /// Time spent choosing this test (validity checks included, training excluded).
         generation_ms: f64,
         /// The SUT's report.
@@ -203,6 +205,7 @@ pub fn run<S: Sut + ?Sized>(
                 fitness,
                 predicted_fitness: None,
                 invalid_candidates: s.invalid,
+                ranked_candidates: 0,
                 generation_ms: s.generation_s * 1e3,
                 output: e.output,
             });
@@ -265,6 +268,7 @@ pub fn run<S: Sut + ?Sized>(
                 fitness,
                 predicted_fitness: p.predicted,
                 invalid_candidates: p.invalid,
+                ranked_candidates: p.ranked,
                 generation_ms: generation_s * 1e3,
                 output: e.output,
             });

@@ -47,6 +47,8 @@ pub struct Proposal {
     pub predicted: Option<f64>,
     /// Invalid candidates (generated or random) rejected on the way.
     pub invalid: usize,
+    /// Valid candidates the analyzer ranked on the way: the acceptance rule's selection pressure.
+    pub ranked: usize,
     /// Whether the test is a mutant of an earlier one rather than the generator's.
     pub mutant: bool,
 }
@@ -215,6 +217,7 @@ impl WoganModel {
         let mut target = 1.0f64;
         let mut best: Option<(Vec<f32>, f64, bool)> = None;
         let mut invalid = 0usize;
+        let mut ranked = 0usize;
         let mut streak = 0usize;
         loop {
             let noise = uniform_noise(rng, batch, noise_dim, &self.plain);
@@ -239,12 +242,14 @@ impl WoganModel {
                             test,
                             predicted: None,
                             invalid,
+                            ranked,
                             mutant: false,
                         });
                     }
                     continue;
                 }
                 streak = 0;
+                ranked += 1;
                 // A diverged analyzer must not stall the search: NaN ranks lowest.
                 let p = if p.is_nan() { 0.0 } else { f64::from(p) };
                 if best.as_ref().is_none_or(|(_, b, _)| p > *b) {
@@ -259,6 +264,7 @@ impl WoganModel {
                             test: test.clone(),
                             predicted: Some(*p),
                             invalid,
+                            ranked,
                             mutant: *mutant,
                         });
                     }
@@ -339,6 +345,42 @@ mod tests {
         assert!(Corner.is_valid(&p.test));
         assert_eq!(p.predicted, None);
         assert!(p.invalid >= 100);
+    }
+
+    #[test]
+    fn a_test_is_accepted_once_the_target_reaches_its_prediction() {
+        let mut rng = ChaCha20Rng::seed_from_u64(5);
+        let sampler = Sampler::new(3, SamplerConfig::default());
+        let mut ranked_per_decay = Vec::new();
+        for decay in [0.5, 0.95, 0.99] {
+            let cfg = WoganConfig {
+                target_decay: decay,
+                ..WoganConfig::default()
+            };
+            let mut model = WoganModel::new(3, &cfg, &mut rng);
+            for k in 0..12 {
+                model.add(&sampler.sample(&mut rng), 0.05 * f64::from(k));
+            }
+            model.train(0.0, &mut rng).unwrap();
+            let mut ranked = 0;
+            for _ in 0..5 {
+                let p = model.propose(&Anything, &sampler, &mut rng).unwrap();
+                let predicted = p.predicted.expect("every candidate is valid");
+                let rounds = i32::try_from(p.ranked).unwrap();
+                assert!(rounds >= 1);
+                assert!(
+                    decay.powi(rounds) <= predicted + ACCEPT_EPS + 1e-12,
+                    "accepted {predicted} at target {} ({decay}^{rounds})",
+                    decay.powi(rounds)
+                );
+                ranked += p.ranked;
+            }
+            ranked_per_decay.push(ranked);
+        }
+        assert!(
+            ranked_per_decay.windows(2).all(|w| w[0] < w[1]),
+            "a slower decay ranks more candidates: {ranked_per_decay:?}"
+        );
     }
 
     /// Every test valid; fitness is irrelevant to proposing.
