@@ -35,12 +35,22 @@ pub struct RunMeasures {
     /// Share of the tests after the first failing one that failed too (how well a search exploits
     /// a failure once it has one); `None` when no test follows a failure.
     pub failure_rate_after_first: Option<f64>,
+    /// Mean of the candidates the analyzer ranked per test it chose (the acceptance rule's
+    /// selection pressure); `None` when it chose none.
+    pub ranked_per_choice: Option<f64>,
 }
 
 impl RunMeasures {
     /// Measures `run`.
     pub fn of(run: &RunFile) -> Self {
         let generation: Vec<f64> = run.tests.iter().filter_map(|t| t.generation_ms).collect();
+        let ranked: Vec<f64> = run
+            .tests
+            .iter()
+            .filter_map(|t| t.ranked_candidates)
+            .filter(|&n| n > 0)
+            .map(|n| n as f64)
+            .collect();
         let profiles: Vec<Vec<f64>> = run
             .tests
             .iter()
@@ -63,6 +73,7 @@ impl RunMeasures {
             // Every failure but the first comes after it.
             failure_rate_after_first: (tests_after_first > 0)
                 .then(|| (failures - 1) as f64 / tests_after_first as f64),
+            ranked_per_choice: mean(&ranked),
         }
     }
 
@@ -147,6 +158,8 @@ pub struct GroupFigures {
     pub first_failure: Spread,
     /// Failure rate after the first failing test, over the runs with tests after one.
     pub failure_rate_after_first: Spread,
+    /// Candidates ranked per test the analyzer chose, over the runs where it chose some.
+    pub ranked_per_choice: Spread,
     /// DIR_COV buckets (k of k/26) hit by the failing tests.
     pub dir_cov_buckets: BTreeSet<u32>,
     /// DIR_COV of the failing tests (bins: the buckets above).
@@ -190,6 +203,7 @@ impl GroupFigures {
             diversity: Spread::of(&column(|m| m.diversity)),
             first_failure: Spread::of(&column(|m| Some(m.first_failure_or_past_end()))),
             failure_rate_after_first: Spread::of(&column(|m| m.failure_rate_after_first)),
+            ranked_per_choice: Spread::of(&column(|m| m.ranked_per_choice)),
             dir_cov_buckets,
             dir_cov,
             max_curv: FeatureCoverage::of(&feature(&|t| t.max_curv), MAX_CURV_BIN_PER_M),
@@ -219,12 +233,18 @@ mod tests {
     use crate::report::run_file::TestRecord;
 
     fn run_of(outcomes: &[&str]) -> RunFile {
+        run_with(outcomes, &vec![0; outcomes.len()])
+    }
+
+    /// A run of these outcomes whose tests the analyzer chose from `ranked` candidates each.
+    fn run_with(outcomes: &[&str], ranked: &[u64]) -> RunFile {
         let tests: Vec<TestRecord> = outcomes
             .iter()
+            .zip(ranked)
             .enumerate()
-            .map(|(i, outcome)| {
-                let record =
-                    serde_json::json!({"id": i + 1, "road_points": [], "outcome": outcome});
+            .map(|(i, (outcome, ranked))| {
+                let record = serde_json::json!({"id": i + 1, "road_points": [],
+                    "outcome": outcome, "ranked_candidates": ranked});
                 serde_json::from_value(record).expect("a test record")
             })
             .collect();
@@ -253,5 +273,12 @@ mod tests {
         let at_the_end = RunMeasures::of(&run_of(&["PASS", "FAIL"]));
         assert_eq!(at_the_end.first_failure, Some(2));
         assert_eq!(at_the_end.failure_rate_after_first, None);
+    }
+
+    #[test]
+    fn candidates_ranked_count_only_the_analyzers_choices() {
+        let run = run_with(&["PASS", "PASS", "FAIL", "PASS"], &[0, 0, 20, 40]);
+        assert_eq!(RunMeasures::of(&run).ranked_per_choice, Some(30.0));
+        assert_eq!(RunMeasures::of(&run_of(&["PASS"])).ranked_per_choice, None);
     }
 }

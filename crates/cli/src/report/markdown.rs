@@ -86,6 +86,8 @@ const FIRST_FAILURE: &str = "first failing test (a run without one: tests execut
 /// Row name of the failure rate after the first failure.
 const RATE_AFTER_FIRST: &str =
     "failure rate after the first failing test (runs with tests after one)";
+/// Row name of the acceptance rule's selection pressure.
+const RANKED_PER_CHOICE: &str = "candidates ranked per test the analyzer chose";
 
 /// One group's section.
 fn group(number_1: usize, section: &GroupSection) -> String {
@@ -115,6 +117,7 @@ fn group(number_1: usize, section: &GroupSection) -> String {
     ));
     text.push_str(&spread_row(FIRST_FAILURE, &f.first_failure));
     text.push_str(&spread_row(RATE_AFTER_FIRST, &f.failure_rate_after_first));
+    text.push_str(&spread_row(RANKED_PER_CHOICE, &f.ranked_per_choice));
     let failing: usize = f.runs.iter().map(|m| m.failures).sum();
     let _ = writeln!(
         text,
@@ -173,11 +176,12 @@ fn comparison(a: &GroupSection, b: &GroupSection) -> String {
     text.push_str("| measure | A mean (SD) | B mean (SD) | U of A | p (two-sided) | method |\n");
     text.push_str("|---|---|---|---|---|---|\n");
     // The means shown are those of the samples the test compares.
-    let rows: [(&str, Measure); 4] = [
+    let rows: [(&str, Measure); 5] = [
         ("failures per run", |m| Some(m.failures as f64)),
         ("diversity", |m| m.diversity),
         (FIRST_FAILURE, |m| Some(m.first_failure_or_past_end())),
         (RATE_AFTER_FIRST, |m| m.failure_rate_after_first),
+        (RANKED_PER_CHOICE, |m| m.ranked_per_choice),
     ];
     for (name, measure) in rows {
         let (x, y) = (a.figures.values(measure), b.figures.values(measure));

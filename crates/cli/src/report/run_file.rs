@@ -60,6 +60,9 @@ pub struct TestRecord {
     /// Invalid candidates rejected before this test.
     #[serde(default)]
     pub invalid_candidates: Option<u64>,
+    /// Valid candidates the analyzer ranked to choose this test (0 when it did not choose it).
+    #[serde(default)]
+    pub ranked_candidates: Option<u64>,
     /// Time to generate the test, milliseconds.
     #[serde(default)]
     pub generation_ms: Option<f64>,
