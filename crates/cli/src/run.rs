@@ -208,16 +208,21 @@ pub fn run(args: &RunArgs) -> Result<Status> {
     if let Some(init_fraction) = args.init_fraction {
         search.wogan.init_fraction = init_fraction;
     }
-    if let Some(share) = args.mutation_share {
-        if search.algorithm != Algorithm::Wogan {
-            anyhow::bail!("--mutation-share applies to --algorithm wogan only");
+    if search.algorithm != Algorithm::Wogan {
+        // How WOGAN chooses its proposals means nothing to random search: say so rather than
+        // ignore it.
+        let wogan_only = [
+            ("--mutation-share", args.mutation_share.is_some()),
+            ("--target-decay", args.target_decay.is_some()),
+        ];
+        if let Some((flag, _)) = wogan_only.iter().find(|(_, given)| *given) {
+            anyhow::bail!("{flag} applies to --algorithm wogan only");
         }
+    }
+    if let Some(share) = args.mutation_share {
         search.wogan.mutation.share = share;
     }
     if let Some(decay) = args.target_decay {
-        if search.algorithm != Algorithm::Wogan {
-            anyhow::bail!("--target-decay applies to --algorithm wogan only");
-        }
         search.wogan.target_decay = decay;
     }
     search.validate().context("invalid search settings")?;

@@ -154,12 +154,6 @@ pub struct GroupFigures {
     pub training_s: Spread,
     /// Diversity over the runs with at least two failures.
     pub diversity: Spread,
-    /// Position of the first failing test (one past the end for a run without one).
-    pub first_failure: Spread,
-    /// Failure rate after the first failing test, over the runs with tests after one.
-    pub failure_rate_after_first: Spread,
-    /// Candidates ranked per test the analyzer chose, over the runs where it chose some.
-    pub ranked_per_choice: Spread,
     /// DIR_COV buckets (k of k/26) hit by the failing tests.
     pub dir_cov_buckets: BTreeSet<u32>,
     /// DIR_COV of the failing tests (bins: the buckets above).
@@ -201,9 +195,6 @@ impl GroupFigures {
             simulated_s: Spread::of(&column(|m| Some(m.simulated_s))),
             training_s: Spread::of(&column(|m| Some(m.training_s))),
             diversity: Spread::of(&column(|m| m.diversity)),
-            first_failure: Spread::of(&column(|m| Some(m.first_failure_or_past_end()))),
-            failure_rate_after_first: Spread::of(&column(|m| m.failure_rate_after_first)),
-            ranked_per_choice: Spread::of(&column(|m| m.ranked_per_choice)),
             dir_cov_buckets,
             dir_cov,
             max_curv: FeatureCoverage::of(&feature(&|t| t.max_curv), MAX_CURV_BIN_PER_M),

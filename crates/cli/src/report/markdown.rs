@@ -81,13 +81,21 @@ pub fn report(sections: &[GroupSection], compare: bool, problems: &[String]) -> 
     text
 }
 
-/// Row name of the first failing test's position.
-const FIRST_FAILURE: &str = "first failing test (a run without one: tests executed + 1)";
-/// Row name of the failure rate after the first failure.
-const RATE_AFTER_FIRST: &str =
-    "failure rate after the first failing test (runs with tests after one)";
-/// Row name of the acceptance rule's selection pressure.
-const RANKED_PER_CHOICE: &str = "candidates ranked per test the analyzer chose";
+/// How a search met and exploited failures, per run: a row of each group's table, and one of the
+/// comparison.
+const EXPLOITATION: [(&str, Measure); 3] = [
+    (
+        "first failing test (a run without one: tests executed + 1)",
+        |m| Some(m.first_failure_or_past_end()),
+    ),
+    (
+        "failure rate after the first failing test (runs with tests after one)",
+        |m| m.failure_rate_after_first,
+    ),
+    ("candidates ranked per test the analyzer chose", |m| {
+        m.ranked_per_choice
+    }),
+];
 
 /// One group's section.
 fn group(number_1: usize, section: &GroupSection) -> String {
@@ -115,9 +123,9 @@ fn group(number_1: usize, section: &GroupSection) -> String {
         "diversity (median pairwise heading-profile distance of failing roads; runs with ≥ 2 failures)",
         &f.diversity,
     ));
-    text.push_str(&spread_row(FIRST_FAILURE, &f.first_failure));
-    text.push_str(&spread_row(RATE_AFTER_FIRST, &f.failure_rate_after_first));
-    text.push_str(&spread_row(RANKED_PER_CHOICE, &f.ranked_per_choice));
+    for (name, measure) in EXPLOITATION {
+        text.push_str(&spread_row(name, &Spread::of(&f.values(measure))));
+    }
     let failing: usize = f.runs.iter().map(|m| m.failures).sum();
     let _ = writeln!(
         text,
@@ -176,14 +184,11 @@ fn comparison(a: &GroupSection, b: &GroupSection) -> String {
     text.push_str("| measure | A mean (SD) | B mean (SD) | U of A | p (two-sided) | method |\n");
     text.push_str("|---|---|---|---|---|---|\n");
     // The means shown are those of the samples the test compares.
-    let rows: [(&str, Measure); 5] = [
+    let outcomes: [(&str, Measure); 2] = [
         ("failures per run", |m| Some(m.failures as f64)),
         ("diversity", |m| m.diversity),
-        (FIRST_FAILURE, |m| Some(m.first_failure_or_past_end())),
-        (RATE_AFTER_FIRST, |m| m.failure_rate_after_first),
-        (RANKED_PER_CHOICE, |m| m.ranked_per_choice),
     ];
-    for (name, measure) in rows {
+    for (name, measure) in outcomes.into_iter().chain(EXPLOITATION) {
         let (x, y) = (a.figures.values(measure), b.figures.values(measure));
         let both = |s: &Spread| format!("{} ({}) n={}", number(s.mean), number(s.sd), s.count);
         let (u, p, method) = match mann_whitney(&x, &y) {
