@@ -67,7 +67,7 @@ fn report_numbers_match_hand_computation() {
     assert_eq!(report.matches("## Group ").count(), 1, "{report}");
     assert!(
         report
-            .contains("## Group 1: wogan / beamng-ai-proxy / fitness bolp / oob 0.85 / 70.0 km/h"),
+            .contains("## Group 1: wogan / beamng-ai-proxy / fitness bolp / decay 0.95 / oob 0.85 / 70.0 km/h"),
         "{report}"
     );
     assert!(

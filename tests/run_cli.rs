@@ -270,12 +270,62 @@ fn a_dave2_proxy_run_searches_the_distance_fitness() {
     assert_eq!(header["fitness"], "distance");
     assert_eq!(header["config"]["sim"]["oob_tolerance"], 0.1);
     assert_eq!(header["config"]["sim"]["speed_limit_kmh"], 25.0);
+    // The distance fails at 0.44 where BOLP fails at 0.10: its decay is matched to BOLP's 0.95.
+    let decay = header["config"]["search"]["wogan"]["target_decay"]
+        .as_f64()
+        .unwrap();
+    assert!((decay - 0.9816).abs() < 1e-4, "{decay}");
     let tests = of_type(&records, "test");
     assert_eq!(tests.len(), 10);
     for test in &tests {
         assert_eq!(test["fitness"], test["fitness_distance"]);
     }
     assert_eq!(records.last().unwrap()["type"], "summary");
+}
+
+#[test]
+fn the_distance_gets_a_decay_matched_to_bolps_unless_one_is_given() {
+    let dir = scratch_dir("decay");
+    let file = dir.join("decay.json");
+    std::fs::write(&file, r#"{"search": {"wogan": {"target_decay": 0.97}}}"#).unwrap();
+    let file = file.to_str().unwrap();
+    for (args, expected) in [
+        (vec!["--fitness", "bolp"], 0.95),
+        (vec!["--fitness", "bolp-scaled"], 0.95),
+        // beamng-ai-proxy's tolerance 0.85: BOLP fails at 0.85, the distance at 0.935.
+        (vec!["--fitness", "distance"], 0.97904),
+        (
+            vec!["--fitness", "distance", "--oob-tolerance", "0.1"],
+            0.98163,
+        ),
+        // Near the distance's top the match is capped.
+        (
+            vec!["--fitness", "distance", "--oob-tolerance", "0.94"],
+            0.99,
+        ),
+        (vec!["--fitness", "distance", "--config", file], 0.97),
+        (
+            vec![
+                "--fitness",
+                "distance",
+                "--config",
+                file,
+                "--target-decay",
+                "0.96",
+            ],
+            0.96,
+        ),
+    ] {
+        let mut all = vec!["--max-tests", "1"];
+        all.extend(&args);
+        let (code, records) = run(&all);
+        assert_eq!(code, Some(0), "{args:?}");
+        let decay = records[0]["config"]["search"]["wogan"]["target_decay"]
+            .as_f64()
+            .unwrap();
+        assert!((decay - expected).abs() < 1e-5, "{args:?}: {decay}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

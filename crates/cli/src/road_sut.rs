@@ -5,18 +5,19 @@
 //!
 //! A fitness's scale is not neutral in WOGAN: the acceptance target starts at 1 and shrinks by 0.95
 //! per candidate, so the analyzer ranks about `ln(p) / ln(0.95)` candidates when its best
-//! prediction is `p`. On dave2-proxy the BOLP fitness (failures at 0.1) ranks 57–87 candidates per
-//! test, the distance (failures at 0.44) about 20 (`ranked_candidates` in the test records: means
-//! of 75 and 21 on seed 3). Rescaling the distance changes that but not the
-//! result: with 300 tests on the built-in student, WOGAN found a median (mean) of 26 (40) failures
-//! over seeds 1–10 with `distance`, 24.5 (31) when a failed drive scores 1, 21 (47) with
-//! `0.1·e^(−margin/0.4 m)` (0.1 where the drive fails), 15.5 (48) with the distance rescaled
-//! linearly to reach 0.1 there, against 17 (37) with `bolp`; rescaled to reach 1 there (2–8
-//! candidates ranked) it found 10 on seeds 1–5. Between runs of one setting the spread is far wider
-//! than these differences.
+//! prediction is `p`. At DAVE-2's tolerance the BOLP fitness fails at 0.1 (about 45 candidates),
+//! the distance at 0.44 (about 16). [`FitnessKind::failure_level`] says where each fitness fails,
+//! so that `wogan run` can give the distance the decay that reaches its failure level after as
+//! many candidates as 0.95 takes to reach BOLP's (0.9816 at 0.10). Rescaling the distance itself
+//! instead was measured and did not help, because it also empties WOGAN's fitness bins: with 300
+//! tests on the built-in student, seeds 1–10, median (mean) failures were 26 (40) with the distance
+//! at 0.95, 24.5 (31) when a failed drive scores 1, 21 (47) with `0.1·e^(−margin/0.4 m)`, 15.5
+//! (48) with the distance rescaled linearly to reach 0.1 at the failure, against 17 (37) with
+//! `bolp`; rescaled to reach 1 there (2–8 candidates ranked) it found 10 on seeds 1–5.
 
+use road_sim::bolp::lane_distance_at_bolp;
 use road_sim::curvature::MAX_CURVATURE_PER_M;
-use road_sim::outcome::Outcome;
+use road_sim::outcome::{fitness_from_distance, Outcome};
 use road_sim::{
     simulate_setup, CurvatureRoad, DriverSetup, Point, Road, SimConfig, SimResult, Validator,
 };
@@ -34,6 +35,21 @@ pub enum FitnessKind {
     BolpScaled,
     /// The simulator's `fitness_distance`, informative even when BOLP stays 0.
     Distance,
+}
+
+impl FitnessKind {
+    /// The fitness of a drive that just fails (BOLP at `sim.oob_tolerance`, the car parallel to
+    /// the lane's edge).
+    pub fn failure_level(self, sim: &SimConfig) -> f64 {
+        match self {
+            Self::Bolp => sim.oob_tolerance,
+            Self::BolpScaled => 1.0,
+            Self::Distance => fitness_from_distance(lane_distance_at_bolp(
+                sim.oob_tolerance,
+                sim.vehicle.width_m,
+            )),
+        }
+    }
 }
 
 /// Roads from curvature vectors, judged by one driver.
@@ -116,5 +132,29 @@ impl Sut for RoadSut {
                 result,
             },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_fitness_fails_where_bolp_reaches_the_tolerance() {
+        let sim = SimConfig {
+            oob_tolerance: 0.1,
+            ..SimConfig::default()
+        };
+        assert_eq!(FitnessKind::Bolp.failure_level(&sim), 0.1);
+        assert_eq!(FitnessKind::BolpScaled.failure_level(&sim), 1.0);
+        // A 1.9 m car's centre 0.76 m inside the edge: (2 - 0.76) / 2.85.
+        let distance = FitnessKind::Distance.failure_level(&sim);
+        assert!((distance - 1.24 / 2.85).abs() < 1e-12, "{distance}");
+        // At the paper's own threshold the distance was scaled to fail at its top.
+        let paper = SimConfig {
+            oob_tolerance: 0.95,
+            ..sim
+        };
+        assert_eq!(FitnessKind::Distance.failure_level(&paper), 1.0);
     }
 }

@@ -19,7 +19,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 use wogan_core::diversity::{median_pairwise_distance, Diversity};
-use wogan_core::{Algorithm, Budget, Event, Phase, RunConfig, Summary};
+use wogan_core::{Algorithm, Budget, Event, Phase, RunConfig, Summary, WoganConfig};
 
 /// Options of `wogan run`.
 #[derive(Debug, Args)]
@@ -61,7 +61,8 @@ pub struct RunArgs {
     #[arg(long, value_parser = share)]
     pub mutation_share: Option<f64>,
     /// Factor applied to WOGAN's acceptance target per valid candidate: closer to 1 ranks more
-    /// candidates per test (0.95 is the paper's) [default: 0.95].
+    /// candidates per test [default: the paper's 0.95 with the BOLP fitnesses; with `--fitness
+    /// distance` the decay matched to BOLP's at the tolerance, 0.9816 at DAVE-2's 0.10].
     #[arg(long, value_parser = fraction)]
     pub target_decay: Option<f64>,
     /// JSON file overriding the paper's defaults: `{"search": {...}, "sim": {...}}` (the
@@ -114,6 +115,23 @@ fn default_fitness(driver: DriverKind) -> FitnessKind {
         // DAVE-2's BOLP stays 0 on most roads, which leaves nothing to learn from.
         DriverKind::Dave2Proxy => FitnessKind::Distance,
     }
+}
+
+/// The slowest acceptance decay a matched default may have: about 5x the paper's candidates per
+/// test, so that a fitness failing near its top (the distance at tolerances near 0.95) does not
+/// make WOGAN rank thousands of candidates for each test.
+const MAX_MATCHED_DECAY: f64 = 0.99;
+
+/// WOGAN's acceptance decay unless `--target-decay` or the config file says otherwise: the
+/// paper's 0.95 for the BOLP fitnesses; for the distance, the decay that reaches its failure level
+/// after as many candidates as 0.95 takes to reach BOLP's at the same tolerance (0.9816 at
+/// DAVE-2's 0.10, where the distance fails at 0.44 and BOLP at 0.10), so that the rule presses
+/// on a failure the same whichever fitness found it.
+fn default_target_decay(fitness: FitnessKind, sim: &SimConfig) -> f64 {
+    let paper = WoganConfig::default();
+    paper
+        .matched_target_decay(sim.oob_tolerance, fitness.failure_level(sim))
+        .map_or(paper.target_decay, |decay| decay.min(MAX_MATCHED_DECAY))
 }
 
 /// Everything that determines a run, written in the header.
@@ -197,13 +215,15 @@ pub fn run(args: &RunArgs) -> Result<Status> {
         map_size_m: args.sim.map_size,
         step_m: args.step_length,
     };
+    let mut search_defaults = RunConfig::default();
+    search_defaults.wogan.target_decay = default_target_decay(fitness, &sim);
     let mut search = RunConfig {
         algorithm: match args.algorithm {
             AlgorithmArg::Wogan => Algorithm::Wogan,
             AlgorithmArg::Random => Algorithm::Random,
         },
         jobs: args.jobs as usize,
-        ..config_file::lay_over(file.search.as_ref(), RunConfig::default(), "\"search\"")?
+        ..config_file::lay_over(file.search.as_ref(), search_defaults, "\"search\"")?
     };
     if let Some(init_fraction) = args.init_fraction {
         search.wogan.init_fraction = init_fraction;

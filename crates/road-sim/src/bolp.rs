@@ -88,6 +88,12 @@ pub fn oob_distance_right(car_center: Point, right_lane_centre: &[Point]) -> f64
     LANE_WIDTH_M / 2.0 - polyline::distance_to(car_center, right_lane_centre)
 }
 
+/// The lane distance (metres, positive inside) at which a car `width_m` wide, parallel to the
+/// lane's edge, has the given BOLP: where a lane-distance fitness meets a BOLP threshold.
+pub fn lane_distance_at_bolp(bolp: f64, width_m: f64) -> f64 {
+    width_m * (0.5 - bolp)
+}
+
 /// BOLP of a car footprint on a road, using the whole right lane.
 pub fn road_bolp(road: &Road, car_corners: &[Point; 4]) -> f64 {
     bolp(
@@ -130,6 +136,19 @@ mod tests {
         ];
         let clip = [[0.0, 2.0], [3.0, 2.0], [3.0, 3.0], [0.0, 3.0]];
         assert!((intersection_area(&u, &clip) - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_parallel_car_at_the_lane_distance_of_a_bolp_has_that_bolp() {
+        // A 4 m lane along x in [0, 4]; the car is 1.9 m wide (x) and 4.6 m long (y).
+        let lane = [[0.0, -50.0], [4.0, -50.0], [4.0, 50.0], [0.0, 50.0]];
+        let (width, length) = (1.9, 4.6);
+        for wanted in [0.0, 0.1, 0.5, 0.85, 0.95] {
+            let centre_x = 4.0 - lane_distance_at_bolp(wanted, width);
+            let (left, right) = (centre_x - width / 2.0, centre_x + width / 2.0);
+            let car = [[left, 0.0], [right, 0.0], [right, length], [left, length]];
+            assert!((bolp(&car, &lane) - wanted).abs() < 1e-12, "{wanted}");
+        }
     }
 
     #[test]

@@ -129,6 +129,21 @@ impl Default for WoganConfig {
     }
 }
 
+impl WoganConfig {
+    /// The decay under which the acceptance target falls to `level` after as many candidates as
+    /// `target_decay` takes to fall to `reference_level`; `None` unless both are strictly
+    /// between 0 and 1.
+    ///
+    /// The rule compares predictions with an absolute target, so its pressure depends on where a
+    /// fitness puts its failures: this carries a decay tuned for one fitness to another that
+    /// fails at a different level (`decay^(ln level / ln reference_level)`).
+    pub fn matched_target_decay(&self, reference_level: f64, level: f64) -> Option<f64> {
+        let inside = |v: f64| v > 0.0 && v < 1.0;
+        (inside(reference_level) && inside(level))
+            .then(|| self.target_decay.powf(level.ln() / reference_level.ln()))
+    }
+}
+
 /// Generator: noise → hidden → hidden → d, ReLU with batch normalisation, tanh output.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -318,6 +333,22 @@ impl RunConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_matched_decay_reaches_its_level_in_as_many_candidates() {
+        let paper = WoganConfig::default();
+        assert_eq!(paper.matched_target_decay(0.1, 0.1), Some(0.95));
+        let decay = paper.matched_target_decay(0.1, 0.435).unwrap();
+        assert!((decay - 0.9816).abs() < 1e-4, "{decay}");
+        let candidates = |decay: f64, level: f64| level.ln() / decay.ln();
+        assert!((candidates(decay, 0.435) - candidates(0.95, 0.1)).abs() < 1e-9);
+        // A level nearer 1 than the reference's needs a slower decay, and vice versa.
+        assert!(paper.matched_target_decay(0.5, 0.9).unwrap() > 0.95);
+        assert!(paper.matched_target_decay(0.5, 0.1).unwrap() < 0.95);
+        for (reference, level) in [(0.0, 0.5), (0.5, 1.0), (1.0, 0.5), (0.5, -0.1)] {
+            assert_eq!(paper.matched_target_decay(reference, level), None);
+        }
+    }
 
     #[test]
     fn partial_json_keeps_defaults() {

@@ -21,13 +21,22 @@ pub struct RunKey {
     pub oob_tolerance: String,
     /// Speed limit in km/h, as text to compare exactly.
     pub speed_limit_kmh: String,
+    /// How WOGAN chose its tests (`decay 0.9816`, `decay 0.95, mutants 0.25`); empty for random
+    /// search and for headers without these settings.
+    pub acceptance: String,
 }
 
 impl RunKey {
-    /// A one-line description, e.g. `wogan / beamng-ai-proxy / bolp / oob 0.85 / 70 km/h`.
+    /// A one-line description, e.g. `wogan / beamng-ai-proxy / fitness bolp / decay 0.95 / oob
+    /// 0.85 / 70 km/h`.
     pub fn label(&self) -> String {
+        let acceptance = if self.acceptance.is_empty() {
+            String::new()
+        } else {
+            format!(" / {}", self.acceptance)
+        };
         format!(
-            "{} / {} / fitness {} / oob {} / {} km/h",
+            "{} / {} / fitness {}{acceptance} / oob {} / {} km/h",
             self.algorithm, self.oracle, self.fitness, self.oob_tolerance, self.speed_limit_kmh
         )
     }
@@ -210,6 +219,27 @@ fn read_record(run: &mut RunFile, text: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// WOGAN's settings for choosing tests, which change what a run finds as much as the fitness does:
+/// the acceptance decay (to 4 decimals, so a matched default and the same value typed by hand
+/// group together) and the mutation share when there are mutants.
+fn acceptance(algorithm: &str, header: &Value) -> String {
+    let setting = |name: &str| {
+        header
+            .pointer(&format!("/config/search/wogan/{name}"))
+            .and_then(Value::as_f64)
+    };
+    let decay = match setting("target_decay") {
+        Some(decay) if algorithm == "wogan" => decay,
+        _ => return String::new(),
+    };
+    let decay = format!("{decay:.4}");
+    let decay = decay.trim_end_matches('0').trim_end_matches('.');
+    match setting("mutation/share") {
+        Some(share) if share > 0.0 => format!("decay {decay}, mutants {share}"),
+        _ => format!("decay {decay}"),
+    }
+}
+
 /// Reads the header's grouping fields.
 fn read_header(value: &Value) -> Result<Header, String> {
     let text = |v: Option<&Value>| match v {
@@ -231,6 +261,7 @@ fn read_header(value: &Value) -> Result<Header, String> {
             fitness: text(value.get("fitness")),
             oob_tolerance: text(oob),
             speed_limit_kmh: text(speed),
+            acceptance: acceptance(algorithm, value),
         },
         seed: value.get("seed").and_then(Value::as_u64),
         oob_tolerance: oob.and_then(Value::as_f64),
@@ -276,6 +307,32 @@ mod tests {
         assert!(!run.tests[0].failed());
         assert_eq!(run.train_ms, 2.5);
         assert!(run.summary.is_none());
+    }
+
+    #[test]
+    fn wogan_runs_are_grouped_by_how_they_chose_tests() {
+        let acceptance_of = |algorithm: &str, wogan: &str| {
+            let header: Value = serde_json::from_str(&format!(
+                r#"{{"type":"header","algorithm":"{algorithm}","config":{{"search":{{"wogan":{wogan}}}}}}}"#
+            ))
+            .unwrap();
+            read_header(&header).unwrap().key
+        };
+        let matched = acceptance_of("wogan", r#"{"target_decay":0.9816321972824553}"#);
+        assert_eq!(matched.acceptance, "decay 0.9816");
+        assert!(matched.label().contains("fitness ? / decay 0.9816 / oob"));
+        let paper = r#"{"target_decay":0.95,"mutation":{"share":0.0}}"#;
+        assert_eq!(acceptance_of("wogan", paper).acceptance, "decay 0.95");
+        let mutants = r#"{"target_decay":0.95,"mutation":{"share":0.25}}"#;
+        assert_eq!(
+            acceptance_of("wogan", mutants).acceptance,
+            "decay 0.95, mutants 0.25"
+        );
+        // Random search ignores these settings, and older headers lack them.
+        assert_eq!(acceptance_of("random", mutants).acceptance, "");
+        let old = acceptance_of("wogan", "{}");
+        assert_eq!(old.acceptance, "");
+        assert!(old.label().contains("fitness ? / oob"));
     }
 
     #[test]
