@@ -311,26 +311,26 @@ mod tests {
 
     #[test]
     fn wogan_runs_are_grouped_by_how_they_chose_tests() {
-        let acceptance_of = |algorithm: &str, wogan: &str| {
+        let key_of = |algorithm: &str, wogan: &str| {
             let header: Value = serde_json::from_str(&format!(
                 r#"{{"type":"header","algorithm":"{algorithm}","config":{{"search":{{"wogan":{wogan}}}}}}}"#
             ))
             .unwrap();
             read_header(&header).unwrap().key
         };
-        let matched = acceptance_of("wogan", r#"{"target_decay":0.9816321972824553}"#);
+        let matched = key_of("wogan", r#"{"target_decay":0.9816321972824553}"#);
         assert_eq!(matched.acceptance, "decay 0.9816");
         assert!(matched.label().contains("fitness ? / decay 0.9816 / oob"));
         let paper = r#"{"target_decay":0.95,"mutation":{"share":0.0}}"#;
-        assert_eq!(acceptance_of("wogan", paper).acceptance, "decay 0.95");
+        assert_eq!(key_of("wogan", paper).acceptance, "decay 0.95");
         let mutants = r#"{"target_decay":0.95,"mutation":{"share":0.25}}"#;
         assert_eq!(
-            acceptance_of("wogan", mutants).acceptance,
+            key_of("wogan", mutants).acceptance,
             "decay 0.95, mutants 0.25"
         );
         // Random search ignores these settings, and older headers lack them.
-        assert_eq!(acceptance_of("random", mutants).acceptance, "");
-        let old = acceptance_of("wogan", "{}");
+        assert_eq!(key_of("random", mutants).acceptance, "");
+        let old = key_of("wogan", "{}");
         assert_eq!(old.acceptance, "");
         assert!(old.label().contains("fitness ? / oob"));
     }
