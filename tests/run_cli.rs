@@ -19,6 +19,13 @@ fn of_type<'a>(records: &'a [Value], kind: &str) -> Vec<&'a Value> {
     records.iter().filter(|r| r["type"] == kind).collect()
 }
 
+/// WOGAN's acceptance decay as a run's header reports it.
+fn target_decay(header: &Value) -> f64 {
+    header["config"]["search"]["wogan"]["target_decay"]
+        .as_f64()
+        .expect("a header with the acceptance decay")
+}
+
 /// The parts of a test record that must not depend on timing.
 fn deterministic_part(test: &Value) -> Value {
     let mut test = test.clone();
@@ -121,10 +128,7 @@ fn a_slower_target_decay_ranks_more_candidates() {
     let ranked_per_test = |decay: &str| {
         let (code, records) = run(&["--max-tests", "20", "--seed", "4", "--target-decay", decay]);
         assert_eq!(code, Some(0));
-        assert_eq!(
-            records[0]["config"]["search"]["wogan"]["target_decay"],
-            decay.parse::<f64>().unwrap()
-        );
+        assert_eq!(target_decay(&records[0]), decay.parse::<f64>().unwrap());
         let ranked: Vec<u64> = of_type(&records, "test")
             .iter()
             .map(|t| t["ranked_candidates"].as_u64().unwrap())
@@ -271,9 +275,7 @@ fn a_dave2_proxy_run_searches_the_distance_fitness() {
     assert_eq!(header["config"]["sim"]["oob_tolerance"], 0.1);
     assert_eq!(header["config"]["sim"]["speed_limit_kmh"], 25.0);
     // The distance fails at 0.44 where BOLP fails at 0.10: its decay is matched to BOLP's 0.95.
-    let decay = header["config"]["search"]["wogan"]["target_decay"]
-        .as_f64()
-        .unwrap();
+    let decay = target_decay(header);
     assert!((decay - 0.9816).abs() < 1e-4, "{decay}");
     let tests = of_type(&records, "test");
     assert_eq!(tests.len(), 10);
@@ -320,9 +322,7 @@ fn the_distance_gets_a_decay_matched_to_bolps_unless_one_is_given() {
         all.extend(&args);
         let (code, records) = run(&all);
         assert_eq!(code, Some(0), "{args:?}");
-        let decay = records[0]["config"]["search"]["wogan"]["target_decay"]
-            .as_f64()
-            .unwrap();
+        let decay = target_decay(&records[0]);
         assert!((decay - expected).abs() < 1e-5, "{args:?}: {decay}");
     }
     std::fs::remove_dir_all(&dir).ok();

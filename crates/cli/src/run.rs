@@ -130,7 +130,10 @@ const MAX_MATCHED_DECAY: f64 = 0.99;
 fn default_target_decay(fitness: FitnessKind, sim: &SimConfig) -> f64 {
     let paper = WoganConfig::default();
     paper
-        .matched_target_decay(sim.oob_tolerance, fitness.failure_level(sim))
+        .matched_target_decay(
+            FitnessKind::Bolp.failure_level(sim),
+            fitness.failure_level(sim),
+        )
         .map_or(paper.target_decay, |decay| decay.min(MAX_MATCHED_DECAY))
 }
 
