@@ -1,10 +1,13 @@
 //! The analyzer: a small regression network predicting a test's fitness.
 //!
-//! `d → hidden → hidden → 1`, ReLU, sigmoid output. It is trained on the pre-sigmoid output
-//! against `logit(0.98·y + 0.01)` (squeezing keeps the logit finite at fitness 0 and 1) with
-//! mean squared error plus `l2 ×` the squared L2 norm of all its parameters (weights and biases),
-//! Adam with the configured learning rate and betas. One analyzer epoch is one Adam step on all
-//! tests, or on `max_batch` of them sampled without replacement once there are more.
+//! `d → hidden → hidden → 1`, ReLU, sigmoid output. Its loss is stgem's `"MSE,logit"`: the
+//! mean squared error between `logit(0.98·p + 0.01)` of the *prediction* `p` (the sigmoid's
+//! output) and of the fitness `y` (squeezing into `[0.01, 0.99]` keeps both logits finite), plus
+//! `l2 ×` the squared L2 norm of all its parameters (weights and biases); Adam with the
+//! configured learning rate and betas. Squeezing the prediction bounds what a prediction can
+//! cost, so a few confidently wrong tests do not dominate the loss as they would against the raw
+//! pre-sigmoid output. One analyzer epoch is one Adam step on all tests, or on `max_batch` of
+//! them sampled without replacement once there are more.
 //!
 //! The L2 term is applied as Adam's coupled weight decay with penalty `2·l2`: its gradient
 //! `2·l2·w` is exactly what the term adds to the loss gradient, and it costs a few optimiser
@@ -24,15 +27,24 @@ use crate::nn::{linear, scalar};
 /// Analyzer network.
 #[derive(Module, Debug)]
 pub struct Analyzer {
-    l1: Linear,
-    l2: Linear,
-    l3: Linear,
+    pub(crate) l1: Linear,
+    pub(crate) l2: Linear,
+    pub(crate) l3: Linear,
 }
+
+/// How far a fitness or prediction in `[0, 1]` is squeezed towards 0.5 before its logit.
+const SQUEEZE: f64 = 0.98;
 
 /// The logit target of a fitness value, as the analyzer is trained on it.
 pub(crate) fn logit_target(fitness: f64) -> f32 {
-    let y = 0.98 * fitness.clamp(0.0, 1.0) + 0.01;
+    let y = SQUEEZE * fitness.clamp(0.0, 1.0) + (1.0 - SQUEEZE) / 2.0;
     (y / (1.0 - y)).ln() as f32
+}
+
+/// `logit(0.98·p + 0.01)` of predictions `p` in `[0, 1]`.
+fn squeezed_logit(p: Tensor<2>) -> Tensor<2> {
+    let q = p.mul_scalar(SQUEEZE).add_scalar((1.0 - SQUEEZE) / 2.0);
+    q.clone().log() - q.neg().add_scalar(1.0).log()
 }
 
 impl Analyzer {
@@ -76,9 +88,11 @@ impl Analyzer {
         total
     }
 
-    /// Mean squared error of the logits against logit targets `[n, 1]`.
+    /// Mean squared error of the predictions' squeezed logits against logit targets `[n, 1]`.
     pub(crate) fn mse(&self, x: Tensor<2>, target: Tensor<2>) -> Tensor<1> {
-        (self.logits(x) - target).powi_scalar(2).mean()
+        (squeezed_logit(self.predict(x)) - target)
+            .powi_scalar(2)
+            .mean()
     }
 }
 
@@ -97,8 +111,13 @@ impl AnalyzerTrainer {
         rng: &mut R,
         device: &Device,
     ) -> Self {
+        Self::with_model(Analyzer::new(dim, cfg, rng, device), cfg)
+    }
+
+    /// Trains `model` as `cfg` says, with a fresh optimiser.
+    pub fn with_model(model: Analyzer, cfg: &AnalyzerConfig) -> Self {
         Self {
-            model: Analyzer::new(dim, cfg, rng, device),
+            model,
             optim: AdamConfig::new()
                 .with_beta_1(cfg.beta1)
                 .with_beta_2(cfg.beta2)

@@ -2,21 +2,38 @@
 //!
 //! Fitness `[0, 1]` is cut into `B` bins. Bin `k` (0 = lowest fitness) has centre
 //! `x_k = (k + 0.5)/B − 0.5` and weight `1/(1 + exp(−(x_k − α)))`; α grows during the run.
-//! A batch draws a bin per slot by these weights and takes one unused test from it; an exhausted
-//! bin passes the draw to the next lower bin, wrapping round to the top, so the batch is never
-//! larger than the tests available. The newest tests first get a chance to enter on their own:
-//! each joins when its bin is at least as high as a bin drawn by the same weights.
+//! (stgem bins the objective `1 − fitness`, so its bin `B − 1 − k` is this bin `k`, and its weight
+//! `1 − σ(h + shift)` is this one with α = shift.)
+//!
+//! A batch is built as stgem's `do_train` builds it. First each of the newest tests gets a chance
+//! on its own: it joins when its bin is *at most* a bin drawn by the weights. (stgem's comment
+//! says the newest tests should join "if and only if they have low objective", i.e. high fitness;
+//! its code compares the other way, so a newest test of low fitness joins more often. The code is
+//! what WOGAN's published results come from, so this follows the code.) Then the rest of the batch
+//! draws a bin per slot by the weights and takes a test uniformly from that bin's tests not yet
+//! taken *by these draws*; an exhausted bin passes the draw to the next lower bin, wrapping round
+//! to the top. A newest test that joined may so appear twice, as in stgem.
 
 use rand::{Rng, RngExt};
 
 /// Bin index of a fitness value (clamped to `[0, 1]`).
+///
+/// Computed as stgem bins its objective `1 − fitness`, so that a fitness on a bin's edge (0.9,
+/// whose objective is 0.09999999999999998) lands where stgem puts it.
 pub fn bin_of(fitness: f64, bins: usize) -> usize {
     let f = if fitness.is_nan() {
         0.0
     } else {
         fitness.clamp(0.0, 1.0)
     };
-    ((f * bins as f64) as usize).min(bins.saturating_sub(1))
+    let top = bins.saturating_sub(1);
+    let objective = 1.0 - f;
+    let stgem_bin = if objective < 1.0 {
+        ((objective * bins as f64) as usize).min(top)
+    } else {
+        top
+    };
+    top - stgem_bin
 }
 
 /// Drawing weights of the bins for bias α.
@@ -29,66 +46,73 @@ pub fn bin_weights(bins: usize, alpha: f64) -> Vec<f64> {
         .collect()
 }
 
-fn draw<R: Rng + ?Sized>(weights: &[f64], rng: &mut R) -> usize {
-    let total: f64 = weights.iter().sum();
-    let mut u = rng.random::<f64>() * total;
-    for (k, w) in weights.iter().enumerate() {
-        if u < *w {
-            return k;
-        }
-        u -= w;
-    }
-    weights.len() - 1
+/// Where a batch's random choices come from.
+pub trait BatchDraws {
+    /// A bin, with probabilities proportional to `weights`.
+    fn bin(&mut self, weights: &[f64]) -> usize;
+    /// A position in `0..len` (`len >= 1`), uniformly.
+    fn position(&mut self, len: usize) -> usize;
 }
 
-/// Indices of a training batch of at most `size` tests.
+/// Batch draws from a random number generator.
+pub struct RngDraws<'a, R: Rng + ?Sized>(pub &'a mut R);
+
+impl<R: Rng + ?Sized> BatchDraws for RngDraws<'_, R> {
+    fn bin(&mut self, weights: &[f64]) -> usize {
+        let total: f64 = weights.iter().sum();
+        let mut u = self.0.random::<f64>() * total;
+        for (k, w) in weights.iter().enumerate() {
+            if u < *w {
+                return k;
+            }
+            u -= w;
+        }
+        weights.len() - 1
+    }
+
+    fn position(&mut self, len: usize) -> usize {
+        self.0.random_range(0..len)
+    }
+}
+
+/// Indices of a training batch of `min(size, tests)` tests.
 ///
-/// `members[k]` lists the test indices in bin `k`; `newest` the newest tests' `(index, bin)`.
-pub fn biased_batch<R: Rng + ?Sized>(
+/// `members[k]` lists the test indices in bin `k` in the order they were added; `newest` the
+/// newest tests' `(index, bin)`, newest first.
+pub fn biased_batch(
     members: &[Vec<usize>],
     newest: &[(usize, usize)],
     size: usize,
     alpha: f64,
-    rng: &mut R,
+    draws: &mut dyn BatchDraws,
 ) -> Vec<usize> {
     let bins = members.len();
     let total: usize = members.iter().map(Vec::len).sum();
     let size = size.min(total);
     let weights = bin_weights(bins, alpha);
     let mut batch: Vec<usize> = Vec::with_capacity(size);
-    let mut used_in_bin = vec![0usize; bins];
     for &(idx, bin) in newest {
-        if batch.len() >= size {
-            break;
-        }
-        if bin < bins && bin >= draw(&weights, rng) && !batch.contains(&idx) {
+        if batch.len() < size && bin <= draws.bin(&weights) {
             batch.push(idx);
-            used_in_bin[bin] += 1;
         }
     }
+    // Positions (ascending) within each bin already taken by the draws below.
+    let mut taken: Vec<Vec<usize>> = vec![Vec::new(); bins];
     while batch.len() < size {
-        let mut k = draw(&weights, rng);
-        // `size <= total` guarantees some bin still has an unused test.
-        while used_in_bin[k] >= members[k].len() {
+        let mut k = draws.bin(&weights);
+        // At most `total` draws, so some bin still has an untaken test.
+        while taken[k].len() >= members[k].len() {
             k = if k == 0 { bins - 1 } else { k - 1 };
         }
-        let bin = &members[k];
-        let pick = if bin.len() <= 64 {
-            // A small bin: choose uniformly among its unused tests directly.
-            let choices: Vec<usize> = bin.iter().copied().filter(|i| !batch.contains(i)).collect();
-            choices[rng.random_range(0..choices.len())]
-        } else {
-            // A large bin (at most `size` of it used, so mostly free): rejection sampling
-            // avoids scanning it.
-            loop {
-                let i = bin[rng.random_range(0..bin.len())];
-                if !batch.contains(&i) {
-                    break i;
-                }
-            }
-        };
-        batch.push(pick);
-        used_in_bin[k] += 1;
+        // The `p`-th untaken test, counting in the bin's order.
+        let mut position = draws.position(members[k].len() - taken[k].len());
+        let mut slot = 0;
+        while slot < taken[k].len() && taken[k][slot] <= position {
+            position += 1;
+            slot += 1;
+        }
+        taken[k].insert(slot, position);
+        batch.push(members[k][position]);
     }
     batch
 }
@@ -124,27 +148,36 @@ mod tests {
         members[0] = vec![0, 1];
         members[9] = vec![2, 3, 4];
         for _ in 0..50 {
-            let b = biased_batch(&members, &[], 32, 1.0, &mut rng);
+            let b = biased_batch(&members, &[], 32, 1.0, &mut RngDraws(&mut rng));
             assert_eq!(b.len(), 5, "never larger than the tests available");
             let mut s = b.clone();
             s.sort_unstable();
             assert_eq!(s, vec![0, 1, 2, 3, 4], "without replacement");
         }
-        let b = biased_batch(&members, &[], 3, 0.0, &mut rng);
+        let b = biased_batch(&members, &[], 3, 0.0, &mut RngDraws(&mut rng));
         assert_eq!(b.len(), 3);
     }
 
     #[test]
-    fn newest_top_bin_always_enters() {
+    fn a_newest_test_joins_when_its_bin_is_at_most_the_drawn_one() {
         let mut rng = ChaCha20Rng::seed_from_u64(4);
         let mut members = vec![Vec::new(); 10];
-        members[0] = (0..100).collect();
-        members[9] = vec![100];
-        for _ in 0..20 {
-            let b = biased_batch(&members, &[(100, 9)], 4, 0.0, &mut rng);
+        members[0] = vec![100];
+        members[9] = (0..100).collect();
+        let mut top_joined = 0;
+        for _ in 0..200 {
+            // The lowest bin is at most any draw: it always joins first.
+            let b = biased_batch(&members, &[(100, 0)], 4, 0.0, &mut RngDraws(&mut rng));
             assert_eq!(b.len(), 4);
             assert_eq!(b[0], 100);
+            // The top bin joins only when the top bin is drawn (weight 0.62 of 5 at α = 0).
+            let b = biased_batch(&members, &[(99, 9)], 4, 0.0, &mut RngDraws(&mut rng));
+            top_joined += usize::from(b[0] == 99 && b.len() == 4);
         }
+        assert!(
+            (10..50).contains(&top_joined),
+            "top bin joined {top_joined} of 200"
+        );
     }
 
     proptest::proptest! {
@@ -169,13 +202,20 @@ mod tests {
                 .filter_map(|(k, m)| m.last().map(|i| (*i, k)))
                 .take(3)
                 .collect();
-            let b = biased_batch(&members, &newest, size, alpha, &mut rng);
+            let b = biased_batch(&members, &newest, size, alpha, &mut RngDraws(&mut rng));
             proptest::prop_assert_eq!(b.len(), size.min(next));
-            let mut s = b.clone();
+            proptest::prop_assert!(b.iter().all(|i| *i < next));
+            // After the newest tests that joined, the draws take each test at most once.
+            let mut joined = 0;
+            for (n, _) in &newest {
+                if b.get(joined) == Some(n) {
+                    joined += 1;
+                }
+            }
+            let mut s = b[joined..].to_vec();
             s.sort_unstable();
             s.dedup();
-            proptest::prop_assert_eq!(s.len(), b.len());
-            proptest::prop_assert!(b.iter().all(|i| *i < next));
+            proptest::prop_assert_eq!(s.len(), b.len() - joined);
         }
     }
 
@@ -189,7 +229,7 @@ mod tests {
         let mut low = 0;
         let mut high = 0;
         for _ in 0..200 {
-            for i in biased_batch(&members, &[], 32, 3.0, &mut rng) {
+            for i in biased_batch(&members, &[], 32, 3.0, &mut RngDraws(&mut rng)) {
                 if i < 1000 {
                     low += 1;
                 } else if i >= 9000 {

@@ -144,7 +144,8 @@ impl WoganConfig {
     }
 }
 
-/// Generator: noise → hidden → hidden → d, ReLU with batch normalisation, tanh output.
+/// Generator: noise → hidden → hidden → d, ReLU; batch normalisation on the second hidden layer
+/// and on the output, before tanh (stgem's layout).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct GeneratorConfig {
@@ -169,7 +170,7 @@ impl Default for GeneratorConfig {
 pub struct CriticConfig {
     /// Width of both hidden layers.
     pub hidden: usize,
-    /// Negative slope of the leaky ReLU.
+    /// Negative slope of the leaky ReLU (stgem calls `F.leaky_relu`, PyTorch's default 0.01).
     pub leaky_slope: f64,
 }
 
@@ -177,7 +178,7 @@ impl Default for CriticConfig {
     fn default() -> Self {
         Self {
             hidden: 128,
-            leaky_slope: 0.1,
+            leaky_slope: 0.01,
         }
     }
 }

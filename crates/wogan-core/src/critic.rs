@@ -18,19 +18,21 @@ use crate::nn::{linear, slopes};
 /// Added under the square root of the gradient norm (the reference's value).
 const GP_EPS: f64 = 1e-6;
 
-/// Critic network `d → hidden → hidden → 1` with leaky ReLU.
+/// Critic network `d → hidden → hidden → 1` with leaky ReLU (stgem's `CriticNetwork`).
 #[derive(Module, Debug)]
 pub struct Critic {
-    l1: Linear,
-    l2: Linear,
-    l3: Linear,
-    slope: f64,
+    pub(crate) l1: Linear,
+    pub(crate) l2: Linear,
+    pub(crate) l3: Linear,
+    pub(crate) slope: f64,
 }
 
 /// The critic loss and the Wasserstein estimate of one step.
 pub(crate) struct CriticLoss {
     /// `mean C(fake) − mean C(real) + penalty`, with its graph.
     pub loss: Tensor<1>,
+    /// The gradient penalty, coefficient included (detached).
+    pub penalty: Tensor<1>,
     /// `mean C(real) − mean C(fake)` (detached).
     pub wasserstein: Tensor<1>,
 }
@@ -70,7 +72,7 @@ impl Critic {
         gp_coef: f64,
     ) -> CriticLoss {
         let m = real.dims()[0];
-        let interp = fake.clone() + (real.clone() - fake.clone()) * eps;
+        let interp = real.clone() * eps.clone() + fake.clone() * eps.neg().add_scalar(1.0);
         let x = Tensor::cat(vec![real, fake, interp], 0);
         let p1 = self.l1.forward(x);
         let s1 = slopes(p1.clone(), self.slope);
@@ -97,7 +99,8 @@ impl Critic {
 
         let wasserstein = (real_mean.clone() - fake_mean.clone()).detach();
         CriticLoss {
-            loss: fake_mean - real_mean + penalty,
+            loss: fake_mean - real_mean + penalty.clone(),
+            penalty: penalty.detach(),
             wasserstein,
         }
     }

@@ -1,25 +1,38 @@
-//! The WGAN generator: noise uniform in `[-1, 1]` → hidden → hidden → test vector in `(-1, 1)`.
+//! The WGAN generator: noise uniform in `[-1, 1]` → test vector in `(-1, 1)`.
 //!
-//! Hidden layers are linear → batch normalisation → ReLU; the output is tanh so proposals land in
-//! the normalised test space. On an autodiff device batch normalisation uses batch statistics
-//! (training); on a plain device (see [`burn::module::Module::valid`]) its running statistics.
+//! The layers are those stgem's `GeneratorNetwork` runs with batch normalisation on (its
+//! `WOGAN_NN.forward`): `Linear(noise → h) → ReLU → Linear(h → h) → BatchNorm → ReLU →
+//! Linear(h → d) → BatchNorm(d) → tanh`. The first hidden layer is not normalised, and the output
+//! is normalised before tanh. That last normalisation matters: it keeps every output coordinate
+//! spread over the batch, so the proposals cover the test space instead of collapsing onto the
+//! few tests of a batch (`tests/reference/wogan/` pins the layout to stgem's own outputs).
+//!
+//! On an autodiff device batch normalisation uses batch statistics and moves the running ones
+//! (training, including the fakes of every critic step, as in stgem); on a plain device (see
+//! [`burn::module::Module::valid`]) the running statistics, which is how candidates are drawn.
 
-use burn::nn::{BatchNorm, BatchNormConfig, Linear};
+use burn::nn::Linear;
 use burn::prelude::*;
 use burn::tensor::activation::{relu, tanh};
 use rand::Rng;
 
+use crate::batch_norm::BatchNorm;
 use crate::config::GeneratorConfig;
 use crate::nn::linear;
 
 /// Generator network.
 #[derive(Module, Debug)]
 pub struct Generator {
-    l1: Linear,
-    bn1: BatchNorm,
-    l2: Linear,
-    bn2: BatchNorm,
-    out: Linear,
+    /// Noise → hidden (stgem's `top`), ReLU without normalisation.
+    pub(crate) input: Linear,
+    /// Hidden → hidden (stgem's `hidden.0`).
+    pub(crate) hidden: Linear,
+    /// Normalises `hidden` before its ReLU (stgem's `norm.0`).
+    pub(crate) hidden_norm: BatchNorm,
+    /// Hidden → test (stgem's `bottom`).
+    pub(crate) output: Linear,
+    /// Normalises `output` before tanh (stgem's `norm.2`).
+    pub(crate) output_norm: BatchNorm,
 }
 
 impl Generator {
@@ -31,18 +44,18 @@ impl Generator {
         device: &Device,
     ) -> Self {
         Self {
-            l1: linear(rng, cfg.noise_dim, cfg.hidden, device),
-            bn1: BatchNormConfig::new(cfg.hidden).init(device),
-            l2: linear(rng, cfg.hidden, cfg.hidden, device),
-            bn2: BatchNormConfig::new(cfg.hidden).init(device),
-            out: linear(rng, cfg.hidden, dim, device),
+            input: linear(rng, cfg.noise_dim, cfg.hidden, device),
+            hidden: linear(rng, cfg.hidden, cfg.hidden, device),
+            hidden_norm: BatchNorm::new(cfg.hidden, device),
+            output: linear(rng, cfg.hidden, dim, device),
+            output_norm: BatchNorm::new(dim, device),
         }
     }
 
     /// Test vectors `[n, dim]` from noise `[n, noise_dim]`.
     pub fn forward(&self, noise: Tensor<2>) -> Tensor<2> {
-        let h = relu(self.bn1.forward(self.l1.forward(noise)));
-        let h = relu(self.bn2.forward(self.l2.forward(h)));
-        tanh(self.out.forward(h))
+        let h = relu(self.input.forward(noise));
+        let h = relu(self.hidden_norm.forward(self.hidden.forward(h)));
+        tanh(self.output_norm.forward(self.output.forward(h)))
     }
 }

@@ -25,19 +25,22 @@ impl Sampler {
 
     /// One random walk, valid or not.
     pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> Vec<f32> {
-        let s = self.config.max_step;
-        let mut out = Vec::with_capacity(self.dim);
-        let mut prev: f32 = rng.random_range(-1.0f32..=1.0);
-        for i in 0..self.dim {
-            if i > 0 {
-                let step = if s > 0.0 {
-                    rng.random_range(-s..=s)
-                } else {
-                    0.0
-                };
-                prev = (prev + step).clamp(-1.0, 1.0);
-            }
-            out.push(prev);
+        let uniforms: Vec<f32> = (0..self.dim)
+            .map(|_| rng.random_range(-1.0f32..=1.0))
+            .collect();
+        self.walk(&uniforms)
+    }
+
+    /// The walk made of `uniforms` in `[-1, 1]` (stgem's `UniformDependent` draws them in this
+    /// order): the first is the first value, each next moves by `max_step` times its uniform.
+    pub fn walk(&self, uniforms: &[f32]) -> Vec<f32> {
+        let mut out: Vec<f32> = Vec::with_capacity(uniforms.len());
+        for &u in uniforms {
+            let next = match out.last() {
+                None => u,
+                Some(prev) => (prev + self.config.max_step * u).clamp(-1.0, 1.0),
+            };
+            out.push(next);
         }
         out
     }

@@ -8,8 +8,9 @@ use burn::prelude::*;
 use rand::seq::index;
 use rand::{Rng, RngExt};
 
+use crate::acceptance::Acceptance;
 use crate::analyzer::{logit_target, Analyzer, AnalyzerTrainer};
-use crate::bins::{biased_batch, bin_of};
+use crate::bins::{biased_batch, bin_of, RngDraws};
 use crate::config::WoganConfig;
 use crate::error::Error;
 use crate::generator::Generator;
@@ -18,12 +19,6 @@ use crate::nn::{matrix, uniform_noise, values};
 use crate::sampler::Sampler;
 use crate::sut::Sut;
 use crate::wgan::Wgan;
-
-/// Below this acceptance target the best valid candidate so far is accepted whatever its score.
-const MIN_TARGET: f64 = 1e-6;
-
-/// Slack in the acceptance test (the reference's), so a saturated prediction cannot stall it.
-const ACCEPT_EPS: f64 = 1e-4;
 
 /// Losses reported by one training round (those of its last steps).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -174,7 +169,13 @@ impl WoganModel {
                     stats.analyzer_loss = loss;
                 }
             }
-            let idx = biased_batch(&self.bins, &newest, self.cfg.batch_size, alpha, rng);
+            let idx = biased_batch(
+                &self.bins,
+                &newest,
+                self.cfg.batch_size,
+                alpha,
+                &mut RngDraws(&mut *rng),
+            );
             let real = self.rows(&idx);
             let l = self.wgan.epoch(real, rng)?;
             stats.critic_loss = l.critic;
@@ -186,17 +187,15 @@ impl WoganModel {
         Ok(stats)
     }
 
-    /// Chooses the next test, as the reference does: each valid generator candidate is one
-    /// round; it joins the pool of candidates ranked by the analyzer, the acceptance target
-    /// (starting at 1) is multiplied by `target_decay`, and the pool's best is accepted once its
-    /// prediction is within 1e-4 of the target.
+    /// Chooses the next test by the [`Acceptance`] rule (stgem's): each valid candidate is
+    /// ranked by the analyzer until the best is accepted.
     ///
     /// Candidates are generated and scored `candidate_batch` at a time (one network call for
-    /// many rounds); validity is checked one candidate at a time and only as far as needed, and
-    /// the unused rest of a batch is dropped (they are independent draws, so this is unbiased).
-    /// After `max_invalid_streak` invalid candidates in a row, a random valid test is returned.
-    /// With a mutation share above 0, that share of each batch are mutants of the highest-fitness
-    /// tests, scored and validated like the generator's candidates.
+    /// many rounds; in inference mode each is an independent draw, as stgem's one at a time);
+    /// validity is checked one candidate at a time and only as far as needed, and the unused rest
+    /// of a batch is dropped. After `max_invalid_streak` invalid candidates in a row, a random
+    /// valid test is returned. With a mutation share above 0, that share of each batch are
+    /// mutants of the highest-fitness tests, scored and validated like the generator's.
     pub fn propose<S: Sut + ?Sized, R: Rng + ?Sized>(
         &self,
         sut: &S,
@@ -214,10 +213,9 @@ impl WoganModel {
         } else {
             Vec::new()
         };
-        let mut target = 1.0f64;
-        let mut best: Option<(Vec<f32>, f64, bool)> = None;
+        let mut acceptance = Acceptance::new(self.cfg.target_decay);
+        let mut best: Option<(Vec<f32>, bool)> = None;
         let mut invalid = 0usize;
-        let mut ranked = 0usize;
         let mut streak = 0usize;
         loop {
             let noise = uniform_noise(rng, batch, noise_dim, &self.plain);
@@ -242,30 +240,25 @@ impl WoganModel {
                             test,
                             predicted: None,
                             invalid,
-                            ranked,
+                            ranked: acceptance.ranked(),
                             mutant: false,
                         });
                     }
                     continue;
                 }
                 streak = 0;
-                ranked += 1;
-                // A diverged analyzer must not stall the search: NaN ranks lowest.
-                let p = if p.is_nan() { 0.0 } else { f64::from(p) };
-                if best.as_ref().is_none_or(|(_, b, _)| p > *b) {
-                    best = Some((c.to_vec(), p, mutant));
+                let ranked = acceptance.rank(f64::from(p));
+                if ranked.best {
+                    best = Some((c.to_vec(), mutant));
                 }
-                target *= self.cfg.target_decay;
-                if let Some((test, p, mutant)) = &best {
-                    // The target only decays, so acceptance is certain; the floor bounds the
-                    // rounds (about 270 at 0.95) even when every prediction is 0.
-                    if *p + ACCEPT_EPS >= target || target < MIN_TARGET {
+                if ranked.accept {
+                    if let Some((test, mutant)) = best.take() {
                         return Ok(Proposal {
-                            test: test.clone(),
-                            predicted: Some(*p),
+                            test,
+                            predicted: Some(acceptance.best()),
                             invalid,
-                            ranked,
-                            mutant: *mutant,
+                            ranked: acceptance.ranked(),
+                            mutant,
                         });
                     }
                 }
@@ -369,7 +362,7 @@ mod tests {
                 let rounds = i32::try_from(p.ranked).unwrap();
                 assert!(rounds >= 1);
                 assert!(
-                    decay.powi(rounds) <= predicted + ACCEPT_EPS + 1e-12,
+                    decay.powi(rounds) <= predicted + 1e-4 + 1e-12,
                     "accepted {predicted} at target {} ({decay}^{rounds})",
                     decay.powi(rounds)
                 );
