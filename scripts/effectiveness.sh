@@ -7,7 +7,8 @@
 #   ALGORITHMS=wogan TAG=bolp scripts/effectiveness.sh dave2-proxy 300 "1 2 3 4 5" --fitness bolp
 #
 # ALGORITHMS chooses the algorithms (default "random wogan"); TAG names the set of runs. Runs are
-# kept in target/effectiveness/ for `wogan report`.
+# kept in target/effectiveness/ for `wogan report`; with REUSE=1 a run whose file already ends
+# with its summary is not run again (so an interrupted set of runs can be resumed).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 oracle=${1:-beamng-ai-proxy}
@@ -29,8 +30,12 @@ printf '%-6s %-8s %8s %10s %8s\n' seed algo failed diversity wall_s
 for algorithm in $algorithms; do
   for seed in $seeds; do
     file="$out/$oracle$tag.$algorithm.$seed.jsonl"
-    ./target/release/wogan run --quiet --oracle "$oracle" --algorithm "$algorithm" \
-      --max-tests "$tests" --seed "$seed" "$@" --out "$file"
+    if [ "${REUSE:-0}" = 1 ] && [ -f "$file" ] && tail -n 1 "$file" | grep -q '"type":"summary"'; then
+      :
+    else
+      ./target/release/wogan run --quiet --oracle "$oracle" --algorithm "$algorithm" \
+        --max-tests "$tests" --seed "$seed" "$@" --out "$file"
+    fi
     printf '%-6s %-8s %8s %10.3f %8.1f\n' "$seed" "$algorithm" "$(field "$file" failed)" \
       "$(diversity_of "$file")" "$(field "$file" wall_s)"
   done

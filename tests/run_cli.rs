@@ -376,3 +376,54 @@ fn driver_weights_must_be_dave2_weights() {
     assert_eq!(code, Some(2), "beamng-ai-proxy takes no weights");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_runs_test_records_replay_exactly_and_report_the_same_diversity() {
+    let dir = scratch_dir("replay");
+    let run_file = dir.join("run.jsonl");
+    let run_path = run_file.to_str().unwrap();
+    let (code, _) = run(&[
+        "--quiet",
+        "--max-tests",
+        "300",
+        "--seed",
+        "3",
+        "--out",
+        run_path,
+    ]);
+    assert_eq!(code, Some(0));
+    let text = std::fs::read_to_string(&run_file).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let tests: Vec<&str> = lines
+        .iter()
+        .copied()
+        .filter(|l| l.contains(r#""type":"test""#))
+        .collect();
+    assert_eq!(tests.len(), 300);
+    let replayed = records(&common::wogan_ok(&["simulate"], &tests.join("\n")));
+    assert_eq!(replayed.len(), tests.len());
+    let mut failures = 0;
+    for (line, answer) in tests.iter().zip(&replayed) {
+        let test: Value = serde_json::from_str(line).unwrap();
+        assert_eq!(answer["outcome"], test["outcome"], "test {}", test["id"]);
+        // Numbers compare exactly: JSON numbers read back to the f64 that was written.
+        assert_eq!(answer["max_bolp"], test["max_bolp"], "test {}", test["id"]);
+        failures += usize::from(test["outcome"] == "FAIL");
+    }
+    assert!(
+        failures >= 2,
+        "the run should fail some tests to measure diversity"
+    );
+
+    let summary: Value = serde_json::from_str(lines.last().unwrap()).unwrap();
+    let diversity = summary["diversity"].as_f64().expect("a diversity");
+    let out = dir.join("report");
+    common::wogan_ok(&["report", run_path, "--out", out.to_str().unwrap()], "");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let row = report
+        .lines()
+        .find(|l| l.starts_with("| diversity"))
+        .expect("a diversity row");
+    let reported = row.split('|').nth(2).unwrap().trim();
+    assert_eq!(reported, format!("{diversity:.3}"), "{row}");
+}

@@ -67,6 +67,8 @@ pub enum Event<O> {
         analyzer_loss: f64,
         /// Critic loss of its last step.
         critic_loss: f64,
+        /// Gradient penalty of its last critic step (coefficient included).
+        gradient_penalty: f64,
         /// Generator loss of its last step.
         generator_loss: f64,
         /// Critic's Wasserstein estimate.
@@ -235,6 +237,7 @@ pub fn run<S: Sut + ?Sized>(
                 on_event(Event::Train {
                     analyzer_loss: stats.analyzer_loss,
                     critic_loss: stats.critic_loss,
+                    gradient_penalty: stats.gradient_penalty,
                     generator_loss: stats.generator_loss,
                     wasserstein_estimate: stats.wasserstein_estimate,
                     train_ms: train_s * 1e3,

@@ -28,6 +28,7 @@ pub(crate) struct CriticStep {
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct WganLosses {
     pub critic: f64,
+    pub penalty: f64,
     pub generator: f64,
     pub wasserstein: f64,
 }
@@ -96,6 +97,7 @@ impl Wgan {
             let eps: Vec<f32> = (0..m).map(|_| rng.random::<f32>()).collect();
             let step = self.critic_step(real.clone(), noise, matrix(eps, m, 1, &self.device))?;
             losses.critic = step.loss;
+            losses.penalty = step.penalty;
             losses.wasserstein = step.wasserstein;
         }
         let noise = uniform_noise(rng, self.cfg.noise_batch, self.noise_dim, &self.device);

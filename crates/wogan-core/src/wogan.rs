@@ -27,6 +27,8 @@ pub struct TrainStats {
     pub analyzer_loss: f64,
     /// Critic loss of the last critic step.
     pub critic_loss: f64,
+    /// Gradient penalty (coefficient included) of the last critic step.
+    pub gradient_penalty: f64,
     /// Generator loss of the last generator step.
     pub generator_loss: f64,
     /// Critic's estimate of the Wasserstein distance between batch and generator.
@@ -181,6 +183,7 @@ impl WoganModel {
             stats.critic_loss = l.critic;
             stats.generator_loss = l.generator;
             stats.wasserstein_estimate = l.wasserstein;
+            stats.gradient_penalty = l.penalty;
         }
         self.rounds += 1;
         self.inference = Some((self.wgan.generator.valid(), self.analyzer.model.valid()));
