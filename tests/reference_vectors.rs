@@ -1,9 +1,11 @@
 //! Agreement with vectors produced by the SBST competition's own pipeline (tests/reference/).
 //!
-//! Run with `cargo test --release --test reference_vectors -- --nocapture` to see the figures.
+//! Run with `cargo test --release --test end_to_end reference_vectors -- --nocapture` to see the figures.
 //! `WOGAN_REFERENCE_DIR` replaces the directory (same file names).
 
-use road_sim::{bolp, features, validator::Reason, CurvatureRoad, Road, Validator};
+use road_sim::road::features;
+use road_sim::sim::bolp;
+use road_sim::{CurvatureRoad, Reason, Road, Validator};
 use serde_json::Value;
 use std::path::PathBuf;
 

@@ -1,8 +1,5 @@
 //! Helpers shared by the end-to-end tests: run the binary, read its JSON lines.
 
-// Every test binary compiles this module on its own and uses only some of it.
-#![allow(dead_code)]
-
 use serde_json::Value;
 use std::io::Write;
 use std::path::PathBuf;

@@ -1,6 +1,8 @@
-//! JSON lines in and out: numbered input lines from a file or stdin, and records written to
-//! stdout (or a file) one per line, each flushed as soon as it is written.
+//! JSON lines in and out: numbered input lines from a file or stdin, and records
+//! ([`crate::records`]) written to stdout (or a file) one per line, each flushed as soon as it is
+//! written.
 
+use crate::records::{Header, Record};
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::fs::File;
@@ -68,7 +70,16 @@ impl JsonLinesWriter {
     }
 
     /// Writes one record and flushes it.
-    pub fn write<T: Serialize>(&mut self, record: &T) -> Result<()> {
+    pub fn write(&mut self, record: &Record) -> Result<()> {
+        self.write_any(record)
+    }
+
+    /// Writes a run's header record and flushes it.
+    pub fn write_header<C: Serialize>(&mut self, header: Header<C>) -> Result<()> {
+        self.write_any(&Record::Header(header))
+    }
+
+    fn write_any<T: Serialize>(&mut self, record: &T) -> Result<()> {
         let encoded = serde_json::to_vec(record).context("cannot encode a record as JSON")?;
         self.write_encoded(encoded)
     }
@@ -80,28 +91,5 @@ impl JsonLinesWriter {
             .write_all(&encoded)
             .context("cannot write output")?;
         self.out.flush().context("cannot flush output")
-    }
-}
-
-/// The record written for an input line that holds no road.
-#[derive(Debug, Serialize)]
-pub struct ErrorRecord<'a> {
-    /// Always `"error"`.
-    #[serde(rename = "type")]
-    pub kind: &'static str,
-    /// The input line, from 1.
-    pub line: usize,
-    /// What is wrong with it.
-    pub error: &'a str,
-}
-
-impl<'a> ErrorRecord<'a> {
-    /// An error record for input line `line`.
-    pub fn new(line: usize, error: &'a str) -> Self {
-        Self {
-            kind: "error",
-            line,
-            error,
-        }
     }
 }

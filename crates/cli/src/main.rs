@@ -1,24 +1,23 @@
 //! `wogan`: finds roads on which a self-driving car's lane keeper leaves its lane.
 //!
 //! The binary only wires things together: roads, validity and simulation come from `road-sim`,
-//! search algorithms from `wogan-core`. Results go to stdout as JSON lines, one object per line,
-//! flushed as soon as known; progress and logs go to stderr.
+//! search algorithms from `wogan-core`, driver training from `driver-training`. Each subcommand is
+//! one module of [`commands`]; `run` resolves what was typed into a [`plan::RunPlan`] once; every
+//! record written or read is a type of [`records`]. Results go to stdout as JSON lines, one object
+//! per line, flushed as soon as known; progress and logs go to stderr.
 
-mod camera;
+mod commands;
 mod config_file;
-mod export;
+mod driver_options;
 mod json_lines;
-mod plots;
+mod plan;
+mod records;
 mod report;
 mod road_lines;
 mod road_sut;
-mod run;
-mod sim_options;
-mod simulate;
-mod stats;
-mod trace_plot;
-mod train_driver;
-mod validate;
+mod value_parsers;
+
+use commands::{camera, export, report as report_command, run, simulate, train_driver, validate};
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -51,13 +50,13 @@ enum Command {
     /// Drive a lane-keeping driver along roads and report how far it left its lane.
     Simulate(simulate::SimulateArgs),
     /// Search for roads on which the driver leaves its lane (WOGAN or random search).
-    Run(run::RunArgs),
+    Run(plan::RunArgs),
     /// Train the dave2-proxy driver by behaviour cloning from beamng-ai-proxy.
     TrainDriver(train_driver::TrainDriverArgs),
     /// Write what the dave2-proxy camera sees along a road, as PNG.
     Camera(camera::CameraArgs),
     /// Write a Markdown report with SVG pictures of runs, or a picture of one simulation trace.
-    Report(report::ReportArgs),
+    Report(report_command::ReportArgs),
     /// Write a run in the SBST competition's result layout.
     Export(export::ExportArgs),
 }
@@ -70,7 +69,7 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::TrainDriver(args) => train_driver::run(&args),
         Command::Camera(args) => camera::run(&args),
-        Command::Report(args) => report::run(&args),
+        Command::Report(args) => report_command::run(&args),
         Command::Export(args) => export::run(&args),
     };
     match outcome {

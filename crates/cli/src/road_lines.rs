@@ -2,12 +2,12 @@
 //! parse each as a road, answer the roads (in parallel when asked), and write the answers in input
 //! order, each flushed as soon as its chunk is done.
 
-use crate::json_lines::{numbered_lines, ErrorRecord, InputLine, JsonLinesWriter};
+use crate::json_lines::{numbered_lines, InputLine, JsonLinesWriter};
+use crate::records::{ErrorRecord, Record};
 use crate::Status;
 use anyhow::Result;
 use rayon::prelude::*;
-use road_sim::input::{parse_line, RoadInput};
-use serde::Serialize;
+use road_sim::road::input::{parse_line, RoadInput};
 use std::io::BufRead;
 
 /// Roads answered together before their answers are written: large enough to keep every thread
@@ -16,7 +16,7 @@ const CHUNK_LINES: usize = 256;
 
 /// Answers every road of `input` with `answer(line_number, road)`; a line that holds no road gets
 /// an `error` record and makes the status [`Status::SomeLinesBad`].
-pub fn answer_each_road<R, F>(
+pub fn answer_each_road<F>(
     input: Box<dyn BufRead>,
     out: &mut JsonLinesWriter,
     map_size_m: f64,
@@ -24,8 +24,7 @@ pub fn answer_each_road<R, F>(
     answer: F,
 ) -> Result<Status>
 where
-    R: Serialize,
-    F: Fn(usize, &RoadInput) -> R + Sync,
+    F: Fn(usize, &RoadInput) -> Record + Sync,
 {
     let mut status = Status::AllRead;
     let mut lines = numbered_lines(input).peekable();
@@ -60,7 +59,10 @@ where
                 Some(Ok(encoded)) => out.write_encoded(encoded)?,
                 Some(Err(error)) => {
                     status = Status::SomeLinesBad;
-                    out.write(&ErrorRecord::new(line.number, &error))?;
+                    out.write(&Record::Error(ErrorRecord {
+                        line: line.number,
+                        error,
+                    }))?;
                 }
             }
         }

@@ -5,9 +5,7 @@
 //! `dave2-proxy` control step).
 
 use criterion::Criterion;
-use road_sim::camera::{Camera, RoadScene};
-use road_sim::dave2::Dave2Weights;
-use road_sim::dave2_inference::Dave2Net;
+use road_sim::vision::{Camera, Dave2Net, Dave2Weights, RoadScene};
 use road_sim::Road;
 use std::hint::black_box;
 

@@ -10,11 +10,13 @@
 //! result; `ROAD_SIM_TRACE=i` prints the trace of road `i` (JSON lines) and stops.
 
 use criterion::Criterion;
-use road_sim::camera::{Camera, CameraParams, RoadScene};
-use road_sim::dave2_inference::Dave2Net;
-use road_sim::driver::embedded_dave2_weights;
-use road_sim::scenario::{calibrate, continuity, deciles, read_roads, CalibrationRoad};
-use road_sim::{simulate_kind, DriverKind, Road, SimConfig};
+mod scenario;
+
+use road_sim::driver::dave2::embedded_weights;
+use road_sim::driver::Dave2DriverParams;
+use road_sim::vision::{Camera, CameraParams, Dave2Net, RoadScene};
+use road_sim::{DriverKind, Road, SimConfig};
+use scenario::{calibrate, continuity, deciles, read_roads, simulate_kind, CalibrationRoad};
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -124,8 +126,8 @@ fn main() {
         .collect();
     let mut criterion = Criterion::default().configure_from_args().sample_size(30);
     let dave2_config = SimConfig {
-        speed_limit_kmh: DriverKind::Dave2Proxy.default_speed_limit_kmh(),
-        oob_tolerance: DriverKind::Dave2Proxy.default_oob_tolerance(),
+        speed_limit_kmh: DriverKind::Dave2Proxy.preset().speed_limit_kmh,
+        oob_tolerance: DriverKind::Dave2Proxy.preset().oob_tolerance,
         ..SimConfig::default()
     };
     print_dave2_split(&built, &dave2_config);
@@ -157,11 +159,11 @@ fn print_dave2_split(roads: &[Road], config: &SimConfig) {
     let median_ms = wall_ms[wall_ms.len() / 2];
     let mut sim_s: Vec<f64> = results.iter().map(|r| r.sim_time_s).collect();
     sim_s.sort_by(f64::total_cmp);
-    let frames = sim_s[sim_s.len() / 2] * config.dave2.control_hz;
+    let frames = sim_s[sim_s.len() / 2] * Dave2DriverParams::default().control_hz;
     let camera = Camera::new(CameraParams::default());
     let scene = RoadScene::new(&roads[0]);
-    let mut net = Dave2Net::new(&embedded_dave2_weights());
-    let (pose, heading) = road_sim::simulation::start_pose(&roads[0], 10.0);
+    let mut net = Dave2Net::new(&embedded_weights());
+    let (pose, heading) = road_sim::sim::start_pose(&roads[0], 10.0);
     let repeats = 300;
     let started = Instant::now();
     let mut frame = camera.render(&scene, pose, heading);
@@ -192,7 +194,7 @@ fn print_dave2_split(roads: &[Road], config: &SimConfig) {
     );
     println!(
         "  median ms per road      {median_ms:.1} ({frames:.0} frames at {} Hz)",
-        config.dave2.control_hz
+        Dave2DriverParams::default().control_hz
     );
     println!(
         "  rendering               {:.1} ms ({render_ms:.3} ms per frame)",

@@ -1,43 +1,37 @@
-//! The self-driving-car system under test: roads, the SBST competition's validator, and the
-//! simulated car with its drivers.
+//! The self-driving-car system under test: roads, the SBST competition's validator, the simulated
+//! car and the drivers that steer it.
 //!
-//! Data flows one way: road points (or curvature values, see [`curvature`]) are interpolated into
-//! a centre line ([`spline`]), which gives the road's edges, quads and lanes ([`road`]); the
-//! [`validator`] applies the competition's rules to them; [`bolp`] and [`features`] measure a car
-//! against the lane and the road's shape.
+//! Data flows one way, and so do the modules' dependencies:
+//! - [`road`]: road points (or curvature values) are interpolated into a centre line, which gives
+//!   the road's edges and lanes;
+//! - [`validator`]: the competition's rules on them;
+//! - [`vision`]: the camera's view of a road and DAVE-2's network;
+//! - [`sim`]: one drive, a car in a rapier3d world steered by a [`Driver`] and watched by the
+//!   lane monitor, ending in a [`SimResult`];
+//! - [`driver`]: the drivers under test, each with its preset and tuning.
+//!
+//! ```
+//! use road_sim::driver::{DriverConfig, DriverKind};
+//! use road_sim::{simulate, Outcome, Road};
+//!
+//! let road = Road::new(&[[100.0, 10.0], [100.0, 60.0], [100.0, 110.0]]).unwrap();
+//! let kind = DriverKind::BeamNgAiProxy;
+//! let driver = DriverConfig::default_for(kind);
+//! let result = simulate(&road, driver.build().as_mut(), &kind.preset().sim_config(), false);
+//! assert_eq!(result.outcome, Outcome::Pass);
+//! ```
 
-pub mod beamng_ai;
-pub mod behaviour_cloning;
-pub mod bolp;
-pub mod circle;
-pub mod curvature;
 pub mod driver;
-pub mod features;
-pub mod heading_profile;
-pub mod input;
-pub mod oracle;
-pub mod outcome;
-pub mod polyline;
 pub mod road;
-pub mod scenario;
-mod settings_check;
-pub mod simulation;
-pub mod spline;
+pub mod settings;
+pub mod sim;
 pub mod validator;
-pub mod vehicle;
+pub mod vision;
 
-/// A point on the map, metres: `[x, y]`, x east, y north.
-pub type Point = [f64; 2];
-
-pub use curvature::CurvatureRoad;
-pub use driver::{Driver, DriverKind, DriverSetup, Observation};
-pub use features::RoadFeatures;
-pub use outcome::{Outcome, Sample, SimResult};
-pub use road::Road;
-pub use simulation::{simulate, simulate_kind, simulate_setup, SimConfig};
+pub use driver::{DriverConfig, DriverKind};
+pub use road::{CurvatureRoad, Point, Road, RoadFeatures};
+pub use settings::SettingsError;
+pub use sim::{
+    simulate, Driver, FitnessKind, Observation, Outcome, Sample, SimConfig, SimResult, StopReason,
+};
 pub use validator::{Reason, Validator, Verdict};
-pub use vehicle::{CarState, Command, Vehicle, VehicleParams};
-pub mod camera;
-pub mod dave2;
-pub mod dave2_driver;
-pub mod dave2_inference;

@@ -18,6 +18,16 @@ pub enum Algorithm {
     Wogan,
 }
 
+impl Algorithm {
+    /// The name, as the run header spells it (`random`, `wogan`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Algorithm::Random => "random",
+            Algorithm::Wogan => "wogan",
+        }
+    }
+}
+
 /// Everything a run needs besides the SUT, the budget and the seed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]

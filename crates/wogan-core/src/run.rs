@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::budget::Budget;
 use crate::config::{Algorithm, RunConfig};
@@ -21,7 +21,7 @@ use crate::sut::{clamp_fitness, Sut};
 use crate::wogan::WoganModel;
 
 /// Which part of the algorithm produced a test.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Phase {
     /// The random sampler.
@@ -32,6 +32,17 @@ pub enum Phase {
     /// A mutant of one of the best tests so far, chosen by the analyzer (see
     /// [`crate::MutationConfig`]).
     Mutant,
+}
+
+impl Phase {
+    /// The name, as test records spell it (`random`, `wogan`, `mutant`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::Random => "random",
+            Phase::Wogan => "wogan",
+            Phase::Mutant => "mutant",
+        }
+    }
 }
 
 /// Something that happened during a run, reported as soon as it is known.

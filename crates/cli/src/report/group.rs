@@ -2,9 +2,11 @@
 //! and the competition's feature coverage of the failing tests.
 
 use super::run_file::RunFile;
-use crate::stats::{mean, median, sample_sd};
-use road_sim::heading_profile::heading_profile;
+use super::stats::{mean, median, sample_sd};
+use crate::records::known;
+use road_sim::road::heading_profile::heading_profile;
 use road_sim::Road;
+use road_sim::SimResult;
 use std::collections::BTreeSet;
 use wogan_core::diversity::median_pairwise_distance;
 
@@ -43,7 +45,11 @@ pub struct RunMeasures {
 impl RunMeasures {
     /// Measures `run`.
     pub fn of(run: &RunFile) -> Self {
-        let generation: Vec<f64> = run.tests.iter().filter_map(|t| t.generation_ms).collect();
+        let generation: Vec<f64> = run
+            .tests
+            .iter()
+            .filter_map(|t| known(t.generation_ms))
+            .collect();
         let ranked: Vec<f64> = run
             .tests
             .iter()
@@ -55,7 +61,7 @@ impl RunMeasures {
             .tests
             .iter()
             .filter(|t| t.failed())
-            .filter_map(|t| Road::new(&t.road_points).ok())
+            .filter_map(|t| Road::new(&t.execution.road_points).ok())
             .map(|road| heading_profile(&road.interpolated))
             .collect();
         let seed = run.header.as_ref().and_then(|h| h.seed).unwrap_or(0);
@@ -66,7 +72,11 @@ impl RunMeasures {
             executed: run.tests.len(),
             failures,
             generation_ms_per_test: mean(&generation),
-            simulated_s: run.tests.iter().filter_map(|t| t.sim_time_s).sum(),
+            simulated_s: run
+                .tests
+                .iter()
+                .filter_map(|t| known(t.execution.result.sim_time_s))
+                .sum(),
             training_s: run.train_ms / 1000.0,
             diversity: median_pairwise_distance(&profiles, seed).median_distance,
             first_failure: first_index.map(|i| i + 1),
@@ -177,10 +187,13 @@ impl GroupFigures {
             .iter()
             .flat_map(|r| r.tests.iter().filter(|t| t.failed()))
             .collect();
-        let feature = |f: &dyn Fn(&super::run_file::TestRecord) -> Option<f64>| -> Vec<f64> {
-            failing.iter().filter_map(|t| f(t)).collect()
+        let feature = |f: &dyn Fn(&SimResult) -> f64| -> Vec<f64> {
+            failing
+                .iter()
+                .filter_map(|t| known(f(&t.execution.result)))
+                .collect()
         };
-        let dir_cov_values = feature(&|t| t.dir_cov);
+        let dir_cov_values = feature(&|r| r.dir_cov);
         let dir_cov_buckets: BTreeSet<u32> = dir_cov_values
             .iter()
             .map(|v| (v * 26.0).round() as u32)
@@ -197,9 +210,9 @@ impl GroupFigures {
             diversity: Spread::of(&column(|m| m.diversity)),
             dir_cov_buckets,
             dir_cov,
-            max_curv: FeatureCoverage::of(&feature(&|t| t.max_curv), MAX_CURV_BIN_PER_M),
-            std_sa: FeatureCoverage::of(&feature(&|t| t.std_sa), STD_SA_BIN_DEG),
-            mean_lp: FeatureCoverage::of(&feature(&|t| t.mean_lp), MEAN_LP_BIN_M),
+            max_curv: FeatureCoverage::of(&feature(&|r| r.max_curv), MAX_CURV_BIN_PER_M),
+            std_sa: FeatureCoverage::of(&feature(&|r| r.std_sa), STD_SA_BIN_DEG),
+            mean_lp: FeatureCoverage::of(&feature(&|r| r.mean_lp), MEAN_LP_BIN_M),
             runs: measures,
         }
     }
@@ -221,23 +234,20 @@ fn values_of(runs: &[RunMeasures], measure: Measure) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::run_file::TestRecord;
+    use crate::records::TestRecord;
+    use road_sim::Outcome;
 
-    fn run_of(outcomes: &[&str]) -> RunFile {
+    fn run_of(outcomes: &[Outcome]) -> RunFile {
         run_with(outcomes, &vec![0; outcomes.len()])
     }
 
     /// A run of these outcomes whose tests the analyzer chose from `ranked` candidates each.
-    fn run_with(outcomes: &[&str], ranked: &[u64]) -> RunFile {
+    fn run_with(outcomes: &[Outcome], ranked: &[usize]) -> RunFile {
         let tests: Vec<TestRecord> = outcomes
             .iter()
             .zip(ranked)
             .enumerate()
-            .map(|(i, (outcome, ranked))| {
-                let record = serde_json::json!({"id": i + 1, "road_points": [],
-                    "outcome": outcome, "ranked_candidates": ranked});
-                serde_json::from_value(record).expect("a test record")
-            })
+            .map(|(i, (&outcome, &ranked))| TestRecord::example(i + 1, outcome, ranked))
             .collect();
         RunFile {
             path: "run.jsonl".into(),
@@ -251,25 +261,37 @@ mod tests {
 
     #[test]
     fn first_failure_and_the_rate_after_it() {
-        let run = RunMeasures::of(&run_of(&["PASS", "FAIL", "PASS", "FAIL", "FAIL"]));
+        let run = RunMeasures::of(&run_of(&[
+            Outcome::Pass,
+            Outcome::Fail,
+            Outcome::Pass,
+            Outcome::Fail,
+            Outcome::Fail,
+        ]));
         assert_eq!(run.first_failure, Some(2));
         assert_eq!(run.first_failure_or_past_end(), 2.0);
         assert_eq!(run.failure_rate_after_first, Some(2.0 / 3.0));
 
-        let never = RunMeasures::of(&run_of(&["PASS", "ERROR"]));
+        let never = RunMeasures::of(&run_of(&[Outcome::Pass, Outcome::Error]));
         assert_eq!(never.first_failure, None);
         assert_eq!(never.first_failure_or_past_end(), 3.0);
         assert_eq!(never.failure_rate_after_first, None);
 
-        let at_the_end = RunMeasures::of(&run_of(&["PASS", "FAIL"]));
+        let at_the_end = RunMeasures::of(&run_of(&[Outcome::Pass, Outcome::Fail]));
         assert_eq!(at_the_end.first_failure, Some(2));
         assert_eq!(at_the_end.failure_rate_after_first, None);
     }
 
     #[test]
     fn candidates_ranked_count_only_the_analyzers_choices() {
-        let run = run_with(&["PASS", "PASS", "FAIL", "PASS"], &[0, 0, 20, 40]);
+        let run = run_with(
+            &[Outcome::Pass, Outcome::Pass, Outcome::Fail, Outcome::Pass],
+            &[0, 0, 20, 40],
+        );
         assert_eq!(RunMeasures::of(&run).ranked_per_choice, Some(30.0));
-        assert_eq!(RunMeasures::of(&run_of(&["PASS"])).ranked_per_choice, None);
+        assert_eq!(
+            RunMeasures::of(&run_of(&[Outcome::Pass])).ranked_per_choice,
+            None
+        );
     }
 }

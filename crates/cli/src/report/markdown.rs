@@ -5,7 +5,7 @@ use super::group::{
     FeatureCoverage, GroupFigures, Measure, Spread, MAX_CURV_BIN_PER_M, MEAN_LP_BIN_M,
     STD_SA_BIN_DEG,
 };
-use crate::stats::{mann_whitney, PMethod};
+use super::stats::{mann_whitney, PMethod};
 use std::fmt::Write;
 
 /// File names of a group's pictures (relative to the report).

@@ -1,10 +1,11 @@
-//! Reading the JSON lines of one `wogan run`: its header, test records and (when the run finished)
-//! its summary. Bad lines are collected with their file and line number, never fatal.
+//! Reading the JSON lines of one `wogan run` (through [`crate::records`]): its header, test
+//! records and (when the run finished) its summary. Bad lines are collected with their file and
+//! line number, never fatal.
 
 use crate::json_lines::{numbered_lines, open_input};
+pub use crate::records::TestRecord;
+use crate::records::{Header, Record, SummaryRecord};
 use anyhow::Result;
-use road_sim::Point;
-use serde::Deserialize;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -42,9 +43,9 @@ impl RunKey {
     }
 }
 
-/// The header record's fields the report uses.
+/// The header's fields the report uses.
 #[derive(Debug, Clone)]
-pub struct Header {
+pub struct RunHeader {
     /// The configuration the run is grouped by.
     pub key: RunKey,
     /// The run's seed.
@@ -55,96 +56,19 @@ pub struct Header {
     pub map_size_m: f64,
 }
 
-/// One executed test, as the report and export need it.
-#[derive(Debug, Clone, Deserialize)]
-pub struct TestRecord {
-    /// The test's number in the run.
-    pub id: u64,
-    /// `random` or `wogan`.
-    #[serde(default)]
-    pub phase: Option<String>,
-    /// Fitness in [0, 1], higher is closer to failure.
-    #[serde(default)]
-    pub fitness: Option<f64>,
-    /// Invalid candidates rejected before this test.
-    #[serde(default)]
-    pub invalid_candidates: Option<u64>,
-    /// Valid candidates the analyzer ranked to choose this test (0 when it did not choose it).
-    #[serde(default)]
-    pub ranked_candidates: Option<u64>,
-    /// Time to generate the test, milliseconds.
-    #[serde(default)]
-    pub generation_ms: Option<f64>,
-    /// The road's defining points.
-    pub road_points: Vec<Point>,
-    /// `PASS`, `FAIL` or `ERROR`.
-    pub outcome: String,
-    /// Largest body-out-of-lane share during the drive.
-    #[serde(default)]
-    pub max_bolp: Option<f64>,
-    /// Simulated time of the drive, seconds.
-    #[serde(default)]
-    pub sim_time_s: Option<f64>,
-    /// Wall time of the drive, milliseconds.
-    #[serde(default)]
-    pub execution_ms: Option<f64>,
-    /// Competition feature MAX_CURV, 1/m.
-    #[serde(rename = "MAX_CURV", default)]
-    pub max_curv: Option<f64>,
-    /// Competition feature DIR_COV (k/26).
-    #[serde(rename = "DIR_COV", default)]
-    pub dir_cov: Option<f64>,
-    /// Competition feature STD_SA, degrees.
-    #[serde(rename = "STD_SA", default)]
-    pub std_sa: Option<f64>,
-    /// Competition feature MEAN_LP, metres.
-    #[serde(rename = "MEAN_LP", default)]
-    pub mean_lp: Option<f64>,
-    /// Competition feature MAX_LP, metres.
-    #[serde(rename = "MAX_LP", default)]
-    pub max_lp: Option<f64>,
-}
-
-impl TestRecord {
-    /// Whether the car left its lane.
-    pub fn failed(&self) -> bool {
-        self.outcome == "FAIL"
-    }
-}
-
-/// The summary record's fields the report and export use.
-#[derive(Debug, Clone, Deserialize)]
-pub struct Summary {
-    /// Invalid candidates over the whole run.
-    #[serde(default)]
-    pub invalid_candidates: Option<u64>,
-    /// Generation time, seconds.
-    #[serde(default)]
-    pub generation_s: Option<f64>,
-    /// Training time, seconds.
-    #[serde(default)]
-    pub training_s: Option<f64>,
-    /// Simulation wall time, seconds.
-    #[serde(default)]
-    pub simulation_s: Option<f64>,
-    /// Whether Ctrl-C ended the run.
-    #[serde(default)]
-    pub interrupted: Option<bool>,
-}
-
 /// One run read from its file.
 #[derive(Debug, Clone)]
 pub struct RunFile {
     /// Where it was read from.
     pub path: PathBuf,
     /// The header, when the file had one.
-    pub header: Option<Header>,
+    pub header: Option<RunHeader>,
     /// The executed tests, in file order.
     pub tests: Vec<TestRecord>,
     /// Training time from the `train` records, milliseconds.
     pub train_ms: f64,
     /// The summary; `None` for a truncated run.
-    pub summary: Option<Summary>,
+    pub summary: Option<SummaryRecord>,
     /// `file:line: problem` for each line that could not be read.
     pub problems: Vec<String>,
 }
@@ -195,25 +119,16 @@ fn read_record(run: &mut RunFile, text: &str) -> Result<(), String> {
     let kind = value
         .get("type")
         .and_then(Value::as_str)
-        .ok_or("no \"type\" field")?;
-    match kind {
-        "header" => {
-            run.header = Some(read_header(&value)?);
-        }
-        "test" => {
-            let test: TestRecord =
-                serde_json::from_value(value).map_err(|e| format!("bad test record: {e}"))?;
-            run.tests.push(test);
-        }
-        "train" => {
-            run.train_ms += value.get("train_ms").and_then(Value::as_f64).unwrap_or(0.0);
-        }
-        "summary" => {
-            let summary: Summary =
-                serde_json::from_value(value).map_err(|e| format!("bad summary record: {e}"))?;
-            run.summary = Some(summary);
-        }
-        // Records of kinds the report does not use (e.g. "error") are skipped.
+        .ok_or("no \"type\" field")?
+        .to_owned();
+    let record: Record =
+        serde_json::from_value(value).map_err(|e| format!("bad {kind} record: {e}"))?;
+    match record {
+        Record::Header(header) => run.header = Some(read_header(&header)),
+        Record::Test(test) => run.tests.push(test),
+        Record::Train(train) => run.train_ms += train.train_ms,
+        Record::Summary(summary) => run.summary = Some(summary),
+        // Records of kinds the report does not use are skipped.
         _ => {}
     }
     Ok(())
@@ -222,10 +137,10 @@ fn read_record(run: &mut RunFile, text: &str) -> Result<(), String> {
 /// WOGAN's settings for choosing tests, which change what a run finds as much as the fitness does:
 /// the acceptance decay (to 4 decimals, so a matched default and the same value typed by hand
 /// group together) and the mutation share when there are mutants.
-fn acceptance(algorithm: &str, header: &Value) -> String {
+fn acceptance(algorithm: &str, config: &Value) -> String {
     let setting = |name: &str| {
-        header
-            .pointer(&format!("/config/search/wogan/{name}"))
+        config
+            .pointer(&format!("/search/wogan/{name}"))
             .and_then(Value::as_f64)
     };
     let decay = match setting("target_decay") {
@@ -240,36 +155,35 @@ fn acceptance(algorithm: &str, header: &Value) -> String {
     }
 }
 
-/// Reads the header's grouping fields.
-fn read_header(value: &Value) -> Result<Header, String> {
+/// Reads the header's grouping fields. The configuration is read by path, so that runs written
+/// by older versions (other layouts) still group.
+fn read_header(header: &Header) -> RunHeader {
     let text = |v: Option<&Value>| match v {
         Some(Value::String(s)) => s.clone(),
         Some(Value::Null) | None => "?".to_owned(),
         Some(other) => other.to_string(),
     };
-    let sim = value.pointer("/config/sim");
+    let sim = header.config.get("sim");
     let oob = sim.and_then(|s| s.get("oob_tolerance"));
     let speed = sim.and_then(|s| s.get("speed_limit_kmh"));
-    let algorithm = value
-        .get("algorithm")
-        .and_then(Value::as_str)
-        .ok_or("header without \"algorithm\"")?;
-    Ok(Header {
+    let algorithm = header.algorithm.name().to_owned();
+    RunHeader {
         key: RunKey {
-            algorithm: algorithm.to_owned(),
-            oracle: text(value.get("oracle")),
-            fitness: text(value.get("fitness")),
+            oracle: header.oracle.name().to_owned(),
+            fitness: header.fitness.name().to_owned(),
             oob_tolerance: text(oob),
             speed_limit_kmh: text(speed),
-            acceptance: acceptance(algorithm, value),
+            acceptance: acceptance(&algorithm, &header.config),
+            algorithm,
         },
-        seed: value.get("seed").and_then(Value::as_u64),
+        seed: header.seed,
         oob_tolerance: oob.and_then(Value::as_f64),
-        map_size_m: value
-            .pointer("/config/road/map_size_m")
+        map_size_m: header
+            .config
+            .pointer("/road/map_size_m")
             .and_then(Value::as_f64)
             .unwrap_or(200.0),
-    })
+    }
 }
 
 #[cfg(test)]
@@ -290,11 +204,11 @@ mod tests {
         let run = read_text(
             "nulls",
             concat!(
-                r#"{"type":"header","seed":7,"algorithm":"random","oracle":"o","fitness":"bolp","config":{"sim":{"oob_tolerance":0.5,"speed_limit_kmh":70.0}}}"#,
+                r#"{"type":"header","version":"0.1.0","seed":7,"algorithm":"random","oracle":"beamng-ai-proxy","fitness":"bolp","config":{"sim":{"oob_tolerance":0.5,"speed_limit_kmh":70.0}}}"#,
                 "\n",
-                r#"{"type":"test","id":1,"fitness":null,"road_points":[[1.0,2.0]],"outcome":"ERROR","max_bolp":null,"MAX_CURV":null}"#,
+                r#"{"type":"test","id":1,"phase":"random","fitness":null,"predicted_fitness":null,"invalid_candidates":0,"generation_ms":0.5,"curvature":[0.0],"road_points":[[1.0,2.0]],"outcome":"ERROR","reason":"non_finite_physics_state","max_bolp":null,"min_lane_distance_m":2.0,"fitness_distance":0.0,"sim_time_s":1.0,"execution_ms":1.0,"MAX_CURV":null,"DIR_COV":0.0,"STD_SA":0.0,"MEAN_LP":2.0,"MAX_LP":2.0}"#,
                 "\n\n",
-                r#"{"type":"train","train_ms":2.5}"#,
+                r#"{"type":"train","analyzer_loss":1.0,"critic_loss":1.0,"generator_loss":1.0,"wasserstein_estimate":0.0,"train_ms":2.5,"tests":8}"#,
                 "\n"
             ),
         );
@@ -305,6 +219,7 @@ mod tests {
         assert_eq!(header.seed, Some(7));
         assert_eq!(run.tests.len(), 1);
         assert!(!run.tests[0].failed());
+        assert!(run.tests[0].fitness.is_nan());
         assert_eq!(run.train_ms, 2.5);
         assert!(run.summary.is_none());
     }
@@ -312,15 +227,17 @@ mod tests {
     #[test]
     fn wogan_runs_are_grouped_by_how_they_chose_tests() {
         let key_of = |algorithm: &str, wogan: &str| {
-            let header: Value = serde_json::from_str(&format!(
-                r#"{{"type":"header","algorithm":"{algorithm}","config":{{"search":{{"wogan":{wogan}}}}}}}"#
+            let header: Header = serde_json::from_str(&format!(
+                r#"{{"version":"0.1.0","algorithm":"{algorithm}","oracle":"dave2-proxy","fitness":"distance","config":{{"search":{{"wogan":{wogan}}}}}}}"#
             ))
             .unwrap();
-            read_header(&header).unwrap().key
+            read_header(&header).key
         };
         let matched = key_of("wogan", r#"{"target_decay":0.9816321972824553}"#);
         assert_eq!(matched.acceptance, "decay 0.9816");
-        assert!(matched.label().contains("fitness ? / decay 0.9816 / oob"));
+        assert!(matched
+            .label()
+            .contains("fitness distance / decay 0.9816 / oob"));
         let paper = r#"{"target_decay":0.95,"mutation":{"share":0.0}}"#;
         assert_eq!(key_of("wogan", paper).acceptance, "decay 0.95");
         let mutants = r#"{"target_decay":0.95,"mutation":{"share":0.25}}"#;
@@ -332,7 +249,7 @@ mod tests {
         assert_eq!(key_of("random", mutants).acceptance, "");
         let old = key_of("wogan", "{}");
         assert_eq!(old.acceptance, "");
-        assert!(old.label().contains("fitness ? / oob"));
+        assert!(old.label().contains("fitness distance / oob"));
     }
 
     #[test]

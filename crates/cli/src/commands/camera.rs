@@ -1,0 +1,76 @@
+//! `wogan camera`: what `dave2-proxy`'s camera sees from the right lane of a road, as PNG.
+
+use crate::json_lines::{numbered_lines, open_input};
+use crate::Status;
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use road_sim::road::input::{parse_line, RoadInput};
+use road_sim::sim::start_pose;
+use road_sim::vision::{write_png, Camera, CameraParams, RoadScene};
+use road_sim::Validator;
+use std::path::PathBuf;
+
+/// Options of `wogan camera`.
+#[derive(Debug, Args)]
+pub struct CameraArgs {
+    /// JSON lines of roads (the forms `wogan validate` reads); the first road is used.
+    /// Standard input when absent or `-`.
+    pub file: Option<PathBuf>,
+    /// Distances along the road, metres, at which the car stands on the right-lane centre.
+    #[arg(long, value_delimiter = ',', default_value = "2.5")]
+    pub at: Vec<f64>,
+    /// Where to write the pictures: `DIR/camera.<metres>.png`.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Write the network's grayscale input instead of the colour picture.
+    #[arg(long)]
+    pub gray: bool,
+    /// Side of the square map, metres.
+    #[arg(long, default_value_t = 200.0, value_parser = crate::value_parsers::positive_metres)]
+    pub map_size: f64,
+}
+
+/// Runs `wogan camera`.
+pub fn run(args: &CameraArgs) -> Result<Status> {
+    let mut road_points = None;
+    for line in numbered_lines(open_input(args.file.as_deref())?) {
+        let line = line?;
+        let text = line
+            .text
+            .map_err(anyhow::Error::msg)
+            .with_context(|| format!("line {}", line.number))?;
+        match parse_line(&text, args.map_size).with_context(|| format!("line {}", line.number))? {
+            RoadInput::Skip => continue,
+            road => {
+                road_points = road.points().map(<[_]>::to_vec);
+                break;
+            }
+        }
+    }
+    let Some(road_points) = road_points else {
+        bail!("the input holds no road");
+    };
+    let verdict = Validator::new(args.map_size).validate(&road_points);
+    let (Some(road), None) = (verdict.road, verdict.reason) else {
+        bail!(
+            "the road is invalid: {}",
+            verdict.reason.map_or("malformed", |r| r.message())
+        );
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let camera = Camera::new(CameraParams::default());
+    let scene = RoadScene::new(&road);
+    for &distance_m in &args.at {
+        let (position, heading_rad) = start_pose(&road, distance_m);
+        let frame = if args.gray {
+            camera.render(&scene, position, heading_rad)
+        } else {
+            camera.render_rgb(&scene, position, heading_rad)
+        };
+        let path = args.out.join(format!("camera.{distance_m}.png"));
+        write_png(&path, &frame).with_context(|| format!("cannot write {}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(Status::AllRead)
+}

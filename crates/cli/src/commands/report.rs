@@ -1,0 +1,38 @@
+//! `wogan report`: a Markdown report with SVG pictures of one or more runs (grouped by their
+//! configuration, or two groups side by side with `--vs`), or a picture of one simulation trace.
+
+use crate::report;
+use crate::Status;
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use std::path::PathBuf;
+
+/// Options of `wogan report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// JSON lines of `wogan run` (repetitions, possibly of several configurations).
+    #[arg(value_name = "RUN")]
+    pub runs: Vec<PathBuf>,
+    /// Compare the RUN files (group A) with these runs (group B), with Mann–Whitney U tests.
+    #[arg(long, num_args = 1.., value_name = "RUN")]
+    pub vs: Vec<PathBuf>,
+    /// Draw one `wogan simulate --trace` file instead of reporting runs.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["runs", "vs"])]
+    pub trace: Option<PathBuf>,
+    /// Directory to write report.md and the pictures to (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+/// Runs `wogan report`.
+pub fn run(args: &ReportArgs) -> Result<Status> {
+    if args.trace.is_none() && args.runs.is_empty() {
+        bail!("give RUN files to report on, or --trace FILE");
+    }
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    match &args.trace {
+        Some(trace) => report::trace_picture(trace, &args.out),
+        None => report::runs_report(&args.runs, &args.vs, &args.out),
+    }
+}

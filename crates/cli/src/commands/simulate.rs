@@ -1,0 +1,98 @@
+//! `wogan simulate`: drive the chosen driver along every road of the input.
+
+use crate::driver_options::DriverOptions;
+use crate::json_lines::{open_input, JsonLinesWriter};
+use crate::records::{InvalidOutcome, Record, ResultRecord, TraceRecord};
+use crate::road_lines::{answer_each_road, thread_pool};
+use crate::Status;
+use anyhow::{Context, Result};
+use clap::Args;
+use road_sim::{simulate, Reason, Road, Sample, Validator};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Options of `wogan simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// JSON lines of roads (the forms `wogan validate` reads). Standard input when absent or `-`.
+    pub file: Option<PathBuf>,
+    #[command(flatten)]
+    pub driver: DriverOptions,
+    /// Roads simulated at once (output keeps the input order).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
+    pub jobs: u32,
+    /// Write DIR/trace.N.jsonl for input line N: the road, then one sample per oracle step.
+    #[arg(long, value_name = "DIR")]
+    pub trace: Option<PathBuf>,
+}
+
+/// Runs `wogan simulate`.
+pub fn run(args: &SimulateArgs) -> Result<Status> {
+    let input = open_input(args.file.as_deref())?;
+    if let Some(dir) = &args.trace {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create trace directory {}", dir.display()))?;
+    }
+    let mut out = JsonLinesWriter::create(None)?;
+    let validator = Validator::new(args.driver.map_size);
+    let config = args.driver.sim_config();
+    let driver = args.driver.driver_config(None)?;
+    let pool = thread_pool(args.jobs as usize)?;
+    answer_each_road(
+        input,
+        &mut out,
+        args.driver.map_size,
+        pool.as_ref(),
+        |line, road| {
+            let verdict = validator.validate(road.points().unwrap_or_default());
+            match (verdict.reason, verdict.road) {
+                (None, Some(road)) => {
+                    let mut result = simulate(
+                        &road,
+                        driver.build().as_mut(),
+                        &config,
+                        args.trace.is_some(),
+                    );
+                    if let (Some(dir), Some(samples)) = (&args.trace, result.trace.take()) {
+                        if let Err(error) = write_trace(dir, line, &road, &samples) {
+                            eprintln!("wogan: line {line}: {error:#}");
+                        }
+                    }
+                    Record::Result(ResultRecord::Driven { line, result })
+                }
+                (reason, _) => {
+                    let reason = reason.unwrap_or(Reason::Malformed);
+                    Record::Result(ResultRecord::Invalid {
+                        line,
+                        outcome: InvalidOutcome::Invalid,
+                        reason,
+                        message: reason.message().to_owned(),
+                    })
+                }
+            }
+        },
+    )
+}
+
+/// Writes `DIR/trace.LINE.jsonl`.
+fn write_trace(dir: &Path, line: usize, road: &Road, samples: &[Sample]) -> Result<()> {
+    let path = dir.join(format!("trace.{line}.jsonl"));
+    let file = std::fs::File::create(&path)
+        .with_context(|| format!("cannot create {}", path.display()))?;
+    let mut writer = std::io::BufWriter::new(file);
+    let mut write = |record: &TraceRecord| -> Result<()> {
+        serde_json::to_writer(&mut writer, record)?;
+        writer.write_all(b"\n")?;
+        Ok(())
+    };
+    write(&TraceRecord::Road {
+        road_points: road.road_points.clone(),
+        interpolated_points: road.interpolated.clone(),
+    })?;
+    for sample in samples {
+        write(&TraceRecord::Sample(*sample))?;
+    }
+    writer
+        .flush()
+        .with_context(|| format!("cannot write {}", path.display()))
+}

@@ -1,0 +1,46 @@
+//! `wogan validate`: the competition's verdict for every road of the input.
+
+use crate::json_lines::{open_input, JsonLinesWriter};
+use crate::records::{Record, VerdictRecord};
+use crate::road_lines::answer_each_road;
+use crate::value_parsers::positive_metres;
+use crate::Status;
+use anyhow::Result;
+use clap::Args;
+use road_sim::Validator;
+use std::path::PathBuf;
+
+/// Options of `wogan validate`.
+#[derive(Debug, Args)]
+pub struct ValidateArgs {
+    /// JSON lines of roads: competition tests, `wogan run` test records, `{"curvature": [...]}`
+    /// or `[[x, y], ...]`. Standard input when absent or `-`.
+    pub file: Option<PathBuf>,
+    /// Side of the square map, metres.
+    #[arg(long, default_value_t = 200.0, value_parser = positive_metres, allow_negative_numbers = true)]
+    pub map_size: f64,
+    /// Add the interpolated centre line to each verdict.
+    #[arg(long)]
+    pub details: bool,
+}
+
+/// Runs `wogan validate`.
+pub fn run(args: &ValidateArgs) -> Result<Status> {
+    let input = open_input(args.file.as_deref())?;
+    let mut out = JsonLinesWriter::create(None)?;
+    let validator = Validator::new(args.map_size);
+    answer_each_road(input, &mut out, args.map_size, None, |line, road| {
+        let verdict = validator.validate(road.points().unwrap_or_default());
+        Record::Verdict(VerdictRecord {
+            line,
+            valid: verdict.is_valid(),
+            reason: verdict.reason,
+            message: verdict.message().to_owned(),
+            interpolated_points: if args.details {
+                verdict.road.map(|r| r.interpolated)
+            } else {
+                None
+            },
+        })
+    })
+}

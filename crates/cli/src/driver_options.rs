@@ -1,0 +1,85 @@
+//! Options that choose and configure the driver under test, shared by `simulate` and `run`.
+
+use crate::config_file;
+use crate::value_parsers::{driver_kind, positive_kmh, positive_metres, share};
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use road_sim::driver::{BeamNgAiParams, Dave2DriverParams};
+use road_sim::vision::Dave2Weights;
+use road_sim::{DriverConfig, DriverKind, SimConfig};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// The driver under test and how it is judged.
+#[derive(Debug, Clone, Args)]
+pub struct DriverOptions {
+    /// The driver under test: beamng-ai-proxy or dave2-proxy.
+    #[arg(long, default_value = "beamng-ai-proxy", value_parser = driver_kind)]
+    pub oracle: DriverKind,
+    /// DAVE-2 weights written by `wogan train-driver` [default: the built-in ones].
+    #[arg(long, value_name = "FILE")]
+    pub driver_weights: Option<PathBuf>,
+    /// The driver's speed limit, km/h [default: 70 for beamng-ai-proxy, 25 for dave2-proxy].
+    #[arg(long, value_parser = positive_kmh, allow_negative_numbers = true)]
+    pub speed_limit: Option<f64>,
+    /// A drive fails when its BOLP exceeds this [default: 0.85 for beamng-ai-proxy, 0.10 for
+    /// dave2-proxy].
+    #[arg(long, value_parser = share, allow_negative_numbers = true)]
+    pub oob_tolerance: Option<f64>,
+    /// Side of the square map, metres.
+    #[arg(long, default_value_t = 200.0, value_parser = positive_metres, allow_negative_numbers = true)]
+    pub map_size: f64,
+}
+
+impl DriverOptions {
+    /// The chosen driver with its default tuning, `patch` (a config file's `driver` section)
+    /// laid over it, and the weights of `--driver-weights` if given.
+    pub fn driver_config(&self, patch: Option<&serde_json::Value>) -> Result<DriverConfig> {
+        let weights = self.dave2_weights()?;
+        let mut driver = DriverConfig::default_for(self.oracle);
+        match &mut driver {
+            DriverConfig::BeamNgAiProxy(params) => {
+                *params = config_file::lay_over::<BeamNgAiParams>(patch, *params, "\"driver\"")?;
+            }
+            DriverConfig::Dave2Proxy {
+                params,
+                weights: built_in,
+            } => {
+                *params = config_file::lay_over::<Dave2DriverParams>(patch, *params, "\"driver\"")?;
+                if let Some(weights) = weights {
+                    *built_in = weights;
+                }
+            }
+        }
+        Ok(driver)
+    }
+
+    /// The weights of `--driver-weights`, if given (for `dave2-proxy` only).
+    fn dave2_weights(&self) -> Result<Option<Arc<Dave2Weights>>> {
+        let Some(path) = &self.driver_weights else {
+            return Ok(None);
+        };
+        if self.oracle != DriverKind::Dave2Proxy {
+            bail!("--driver-weights is for dave2-proxy, not {}", self.oracle);
+        }
+        let bytes = std::fs::read(path)
+            .with_context(|| format!("cannot read driver weights {}", path.display()))?;
+        let weights = Dave2Weights::from_bytes(&bytes)
+            .with_context(|| format!("driver weights {}", path.display()))?;
+        Ok(Some(Arc::new(weights)))
+    }
+
+    /// The simulation settings these options ask for, on the driver's preset.
+    pub fn sim_config(&self) -> SimConfig {
+        self.apply_to(self.oracle.preset().sim_config())
+    }
+
+    /// `base` with the options given on the command line applied.
+    pub fn apply_to(&self, base: SimConfig) -> SimConfig {
+        SimConfig {
+            speed_limit_kmh: self.speed_limit.unwrap_or(base.speed_limit_kmh),
+            oob_tolerance: self.oob_tolerance.unwrap_or(base.oob_tolerance),
+            ..base
+        }
+    }
+}

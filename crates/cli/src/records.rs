@@ -1,0 +1,317 @@
+//! The JSON-lines wire format: every record `wogan` writes, and reads back, as one serde type.
+//!
+//! Each line is one object tagged by `"type"`. `run` writes a header, then test and train records
+//! as they happen, then a summary; `simulate` writes a result per road (and `--trace` files of road
+//! and sample records); `validate` a verdict per road; both write an error record for a line that
+//! holds no road; `train-driver` writes one driver record. `report` and `export` read run files back through the same types, so a field
+//! is named, typed and documented once. The library's enums travel as themselves (outcome, stop
+//! reason, validity reason, phase, algorithm, driver, fitness).
+//!
+//! Numbers round-trip exactly (serde_json's `float_roundtrip`). JSON has no NaN: serde_json writes
+//! a non-finite number as `null`, which reads back as NaN. Fields added after a record was first
+//! written are optional when read, so that older run files stay readable.
+
+use driver_training::{CloningConfig, CloningReport};
+use road_sim::road::Point;
+use road_sim::{DriverKind, FitnessKind, Outcome, Reason, Sample, SimResult};
+use serde::{Deserialize, Deserializer, Serialize};
+use wogan_core::{Algorithm, Phase};
+
+/// The version written in headers.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// One line of `wogan`'s output. `C` is the header's configuration: the resolved plan when
+/// written, any JSON when read (older runs have older layouts).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum Record<C = serde_json::Value> {
+    /// What a run is: the first line of its file.
+    Header(Header<C>),
+    /// One executed test of a run.
+    Test(TestRecord),
+    /// One training round of WOGAN.
+    Train(TrainRecord),
+    /// The totals of a run: its last line.
+    Summary(SummaryRecord),
+    /// An input line that holds no road.
+    Error(ErrorRecord),
+    /// `simulate`'s answer for one road.
+    Result(ResultRecord),
+    /// `validate`'s answer for one road.
+    Verdict(VerdictRecord),
+    /// What `train-driver` trained and measured.
+    Driver(DriverRecord),
+    /// A record of a kind this version does not know (skipped by readers).
+    #[serde(other, skip_serializing)]
+    Unknown,
+}
+
+/// What a run is: everything that determines its results.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Header<C = serde_json::Value> {
+    /// The `wogan` version that wrote the run.
+    pub version: String,
+    /// Seed of every random choice.
+    #[serde(default)]
+    pub seed: Option<u64>,
+    /// The search algorithm.
+    pub algorithm: Algorithm,
+    /// The driver under test.
+    pub oracle: DriverKind,
+    /// What the search maximised.
+    pub fitness: FitnessKind,
+    /// Every setting, resolved (see `plan::RunSettings`).
+    pub config: C,
+}
+
+/// One executed test.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct TestRecord {
+    /// 1-based position in the run.
+    pub id: usize,
+    /// Who proposed it.
+    pub phase: Phase,
+    /// Fitness in `[0, 1]`, higher is closer to failure.
+    #[serde(deserialize_with = "nan_for_null")]
+    pub fitness: f64,
+    /// The analyzer's prediction, when WOGAN chose the test.
+    #[serde(default)]
+    pub predicted_fitness: Option<f64>,
+    /// Invalid candidates rejected since the previous executed test.
+    pub invalid_candidates: usize,
+    /// Valid candidates the analyzer ranked to choose it (absent in runs before it was written).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ranked_candidates: Option<usize>,
+    /// Time spent choosing the test, milliseconds.
+    #[serde(deserialize_with = "nan_for_null")]
+    pub generation_ms: f64,
+    /// The road and its drive.
+    #[serde(flatten)]
+    pub execution: RoadExecution,
+}
+
+impl TestRecord {
+    /// Whether the car left its lane.
+    pub fn failed(&self) -> bool {
+        self.execution.result.outcome == Outcome::Fail
+    }
+
+    /// A random-phase test of a straight road with this outcome, for tests of readers.
+    #[cfg(test)]
+    pub fn example(id: usize, outcome: Outcome, ranked_candidates: usize) -> Self {
+        let json = serde_json::json!({"id": id, "phase": "random", "fitness": 0.5,
+            "invalid_candidates": 0, "ranked_candidates": ranked_candidates, "generation_ms": 1.0,
+            "curvature": [0.0], "road_points": [[100.0, 10.0], [100.0, 40.0]],
+            "outcome": outcome, "reason": null, "max_bolp": 0.5, "min_lane_distance_m": 1.0,
+            "fitness_distance": 0.3, "sim_time_s": 3.0, "execution_ms": 1.0, "MAX_CURV": 0.0,
+            "DIR_COV": 0.0, "STD_SA": 0.0, "MEAN_LP": 2.0, "MAX_LP": 2.0});
+        serde_json::from_value(json).expect("an example test record")
+    }
+}
+
+/// A road and what driving it produced.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RoadExecution {
+    /// Curvature values, 1/m.
+    pub curvature: Vec<f64>,
+    /// The road points they make.
+    pub road_points: Vec<Point>,
+    /// The interpolated centre line (not written: the run uses it for the diversity measure).
+    #[serde(skip)]
+    pub interpolated: Vec<Point>,
+    /// The simulator's report.
+    #[serde(flatten)]
+    pub result: SimResult,
+}
+
+/// One training round of WOGAN (the losses of its last steps).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct TrainRecord {
+    /// Analyzer loss.
+    pub analyzer_loss: f64,
+    /// Critic loss.
+    pub critic_loss: f64,
+    /// Gradient penalty of the last critic step, coefficient included (absent in older runs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gradient_penalty: Option<f64>,
+    /// Generator loss.
+    pub generator_loss: f64,
+    /// The critic's Wasserstein estimate.
+    pub wasserstein_estimate: f64,
+    /// Duration of the round, milliseconds.
+    pub train_ms: f64,
+    /// Tests the round learnt from.
+    pub tests: usize,
+}
+
+/// The totals of a run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SummaryRecord {
+    /// Tests executed.
+    pub executed: usize,
+    /// Tests whose drive failed.
+    pub failed: usize,
+    /// Invalid candidates over the whole run.
+    pub invalid_candidates: usize,
+    /// Wall time of the run, seconds.
+    pub wall_s: f64,
+    /// Time spent generating tests, seconds.
+    pub generation_s: f64,
+    /// Time spent training, seconds.
+    pub training_s: f64,
+    /// Time spent simulating, seconds.
+    pub simulation_s: f64,
+    /// Median pairwise distance of the failing roads' heading profiles.
+    pub diversity: Option<f64>,
+    /// Which pairs the diversity was measured on.
+    pub diversity_pairs: String,
+    /// Whether Ctrl-C or SIGTERM ended the run.
+    pub interrupted: bool,
+    /// Why the search failed part-way, if it did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+/// An input line that holds no road.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ErrorRecord {
+    /// The input line, from 1.
+    pub line: usize,
+    /// What is wrong with it.
+    pub error: String,
+}
+
+/// `simulate`'s answer for one road.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ResultRecord {
+    /// The road was driven.
+    Driven {
+        /// The input line, from 1.
+        line: usize,
+        /// The drive.
+        #[serde(flatten)]
+        result: SimResult,
+    },
+    /// The road is invalid and was not driven.
+    Invalid {
+        /// The input line, from 1.
+        line: usize,
+        /// Always `INVALID`.
+        outcome: InvalidOutcome,
+        /// Why the road is invalid.
+        reason: Reason,
+        /// The competition's message.
+        message: String,
+    },
+}
+
+/// The outcome written for a road that was not driven because it is invalid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "UPPERCASE")]
+pub enum InvalidOutcome {
+    /// Not a valid road.
+    Invalid,
+}
+
+/// `validate`'s answer for one road.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct VerdictRecord {
+    /// The input line, from 1.
+    pub line: usize,
+    /// Whether the road is valid.
+    pub valid: bool,
+    /// Why not.
+    pub reason: Option<Reason>,
+    /// The competition's message (empty for a valid road).
+    pub message: String,
+    /// The interpolated centre line, with `--details`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interpolated_points: Option<Vec<Point>>,
+}
+
+/// What `train-driver` trained and measured.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct DriverRecord {
+    /// Where the weights were written.
+    pub weights: String,
+    /// The training settings.
+    pub config: CloningConfig,
+    /// What the training measured.
+    #[serde(flatten)]
+    pub report: CloningReport,
+}
+
+/// One line of a `simulate --trace` file: the road first, then one sample per oracle step.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum TraceRecord {
+    /// The road driven.
+    Road {
+        /// Its defining points.
+        road_points: Vec<Point>,
+        /// Its interpolated centre line.
+        interpolated_points: Vec<Point>,
+    },
+    /// One oracle sample.
+    Sample(Sample),
+    /// A record of a kind this version does not know (skipped by readers).
+    #[serde(other, skip_serializing)]
+    Unknown,
+}
+
+/// `value` unless it is NaN (a number that was not finite when written, or missing).
+pub fn known(value: f64) -> Option<f64> {
+    (!value.is_nan()).then_some(value)
+}
+
+/// Reads a number that serde_json wrote as `null` because it was not finite, as NaN.
+fn nan_for_null<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::NAN))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A record written and read back is the same record, byte for byte.
+    fn round_trips(line: &str) {
+        let record: Record = serde_json::from_str(line).unwrap();
+        assert_eq!(serde_json::to_string(&record).unwrap(), line);
+    }
+
+    #[test]
+    fn every_kind_round_trips() {
+        round_trips(
+            r#"{"type":"header","version":"0.1.0","seed":7,"algorithm":"wogan","oracle":"dave2-proxy","fitness":"distance","config":{"jobs":1}}"#,
+        );
+        round_trips(
+            r#"{"type":"test","id":3,"phase":"wogan","fitness":0.25,"predicted_fitness":0.5,"invalid_candidates":2,"ranked_candidates":9,"generation_ms":1.5,"curvature":[0.01,-0.02],"road_points":[[100.0,10.0],[100.0,25.0],[101.0,40.0]],"outcome":"FAIL","reason":"out_of_lane","max_bolp":0.9,"min_lane_distance_m":-0.1,"fitness_distance":0.73,"sim_time_s":12.5,"execution_ms":4.0,"MAX_CURV":0.05,"DIR_COV":0.2,"STD_SA":3.0,"MEAN_LP":1.2,"MAX_LP":2.0}"#,
+        );
+        round_trips(
+            r#"{"type":"train","analyzer_loss":0.5,"critic_loss":8.2,"gradient_penalty":8.3,"generator_loss":0.1,"wasserstein_estimate":0.01,"train_ms":20.5,"tests":8}"#,
+        );
+        round_trips(
+            r#"{"type":"summary","executed":40,"failed":13,"invalid_candidates":197,"wall_s":9.5,"generation_s":1.0,"training_s":0.5,"simulation_s":8.0,"diversity":9.25,"diversity_pairs":"all","interrupted":false}"#,
+        );
+        round_trips(r#"{"type":"error","line":4,"error":"not JSON"}"#);
+        round_trips(
+            r#"{"type":"result","line":2,"outcome":"INVALID","reason":"too_sharp","message":"The road is too sharp"}"#,
+        );
+        round_trips(
+            r#"{"type":"verdict","line":1,"valid":false,"reason":"outside_map","message":"Not entirely inside the map boundaries"}"#,
+        );
+    }
+
+    #[test]
+    fn nulls_read_as_nan_and_older_records_read() {
+        let old = r#"{"type":"test","id":1,"phase":"random","fitness":null,"predicted_fitness":null,"invalid_candidates":0,"generation_ms":0.5,"curvature":[0.0],"road_points":[[1.0,2.0]],"outcome":"ERROR","reason":"non_finite_physics_state","max_bolp":null,"min_lane_distance_m":2.0,"fitness_distance":0.0,"sim_time_s":1.0,"execution_ms":1.0,"MAX_CURV":0.0,"DIR_COV":0.0,"STD_SA":0.0,"MEAN_LP":2.0,"MAX_LP":2.0}"#;
+        let Record::<serde_json::Value>::Test(test) = serde_json::from_str(old).unwrap() else {
+            panic!("not a test record");
+        };
+        assert!(test.fitness.is_nan() && test.execution.result.max_bolp.is_nan());
+        assert_eq!(test.ranked_candidates, None);
+        let unknown: Record = serde_json::from_str(r#"{"type":"future","x":1}"#).unwrap();
+        assert!(matches!(unknown, Record::Unknown));
+    }
+}

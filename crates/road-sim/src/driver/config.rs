@@ -1,0 +1,189 @@
+//! Which driver is under test and how it is set up: its name, its preset (the tolerance, speed
+//! limit and fitness it is judged by unless told otherwise) and its tuning.
+
+use super::beamng_ai::{self, BeamNgAiParams, BeamNgAiProxy};
+use super::dave2::{self, Dave2Driver, Dave2DriverParams};
+use crate::settings::SettingsError;
+use crate::sim::{Driver, FitnessKind, SimConfig};
+use crate::vision::Dave2Weights;
+use serde::{Deserialize, Serialize, Serializer};
+use std::sync::Arc;
+
+/// The drivers known by name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+pub enum DriverKind {
+    /// A path-tracking lane keeper in the spirit of BeamNG.AI (`beamng-ai-proxy`).
+    #[default]
+    #[serde(rename = "beamng-ai-proxy")]
+    BeamNgAiProxy,
+    /// DAVE-2 steering from a front camera (`dave2-proxy`).
+    #[serde(rename = "dave2-proxy")]
+    Dave2Proxy,
+}
+
+/// A driver name that is not one of [`DriverKind::ALL`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown driver {name:?} (known: beamng-ai-proxy, dave2-proxy)")]
+pub struct UnknownDriver {
+    /// The name given.
+    pub name: String,
+}
+
+impl DriverKind {
+    /// All known drivers.
+    pub const ALL: [DriverKind; 2] = [DriverKind::BeamNgAiProxy, DriverKind::Dave2Proxy];
+
+    /// The driver's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            DriverKind::BeamNgAiProxy => "beamng-ai-proxy",
+            DriverKind::Dave2Proxy => "dave2-proxy",
+        }
+    }
+
+    /// The driver of that name, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// How this driver is judged unless told otherwise (kept beside each driver).
+    pub fn preset(self) -> DriverPreset {
+        match self {
+            DriverKind::BeamNgAiProxy => beamng_ai::PRESET,
+            DriverKind::Dave2Proxy => dave2::PRESET,
+        }
+    }
+}
+
+impl std::fmt::Display for DriverKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for DriverKind {
+    type Err = UnknownDriver;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::from_name(s).ok_or_else(|| UnknownDriver {
+            name: s.to_string(),
+        })
+    }
+}
+
+/// What a driver is judged by unless told otherwise: the competition's setting for it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DriverPreset {
+    /// A drive fails when its BOLP exceeds this.
+    pub oob_tolerance: f64,
+    /// The speed limit, km/h.
+    pub speed_limit_kmh: f64,
+    /// What a search maximises.
+    pub fitness: FitnessKind,
+}
+
+impl DriverPreset {
+    /// The default simulation settings with this preset's tolerance and speed limit.
+    pub fn sim_config(&self) -> SimConfig {
+        SimConfig {
+            oob_tolerance: self.oob_tolerance,
+            speed_limit_kmh: self.speed_limit_kmh,
+            ..SimConfig::default()
+        }
+    }
+}
+
+/// One driver, ready to be built for each drive: its tuning and, for `dave2-proxy`, the
+/// network's weights. Serialises as its tuning (the weights are not configuration).
+#[derive(Debug, Clone)]
+pub enum DriverConfig {
+    /// `beamng-ai-proxy` with its tuning.
+    BeamNgAiProxy(BeamNgAiParams),
+    /// `dave2-proxy` with its settings and weights.
+    Dave2Proxy {
+        /// Control rate, set speed and speed controller.
+        params: Dave2DriverParams,
+        /// The network's weights.
+        weights: Arc<Dave2Weights>,
+    },
+}
+
+impl DriverConfig {
+    /// The driver `kind` with its default tuning (and the built-in DAVE-2 weights).
+    pub fn default_for(kind: DriverKind) -> Self {
+        match kind {
+            DriverKind::BeamNgAiProxy => Self::BeamNgAiProxy(BeamNgAiParams::default()),
+            DriverKind::Dave2Proxy => Self::Dave2Proxy {
+                params: Dave2DriverParams::default(),
+                weights: dave2::embedded_weights(),
+            },
+        }
+    }
+
+    /// Which driver this is.
+    pub fn kind(&self) -> DriverKind {
+        match self {
+            Self::BeamNgAiProxy(_) => DriverKind::BeamNgAiProxy,
+            Self::Dave2Proxy { .. } => DriverKind::Dave2Proxy,
+        }
+    }
+
+    /// Names the first setting the driver cannot work with.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        match self {
+            Self::BeamNgAiProxy(params) => params.validate(),
+            Self::Dave2Proxy { params, .. } => params.validate(),
+        }
+    }
+
+    /// A new driver, for one drive.
+    pub fn build(&self) -> Box<dyn Driver + Send> {
+        match self {
+            Self::BeamNgAiProxy(params) => Box::new(BeamNgAiProxy::new(*params)),
+            Self::Dave2Proxy { params, weights } => Box::new(Dave2Driver::new(weights, *params)),
+        }
+    }
+}
+
+impl Serialize for DriverConfig {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Self::BeamNgAiProxy(params) => params.serialize(serializer),
+            Self::Dave2Proxy { params, .. } => params.serialize(serializer),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for kind in DriverKind::ALL {
+            assert_eq!(kind.name().parse::<DriverKind>(), Ok(kind));
+            assert_eq!(
+                serde_json::to_string(&kind).unwrap(),
+                format!("\"{}\"", kind.name())
+            );
+            let config = DriverConfig::default_for(kind);
+            assert_eq!(config.kind(), kind);
+            assert_eq!(config.build().name(), kind.name());
+        }
+        assert_eq!(
+            "dave3".parse::<DriverKind>().unwrap_err().to_string(),
+            "unknown driver \"dave3\" (known: beamng-ai-proxy, dave2-proxy)"
+        );
+    }
+
+    #[test]
+    fn presets_are_the_competitions_settings() {
+        let beamng = DriverKind::BeamNgAiProxy.preset();
+        assert_eq!((beamng.oob_tolerance, beamng.speed_limit_kmh), (0.85, 70.0));
+        assert_eq!(beamng.fitness, FitnessKind::Bolp);
+        let dave2 = DriverKind::Dave2Proxy.preset();
+        assert_eq!((dave2.oob_tolerance, dave2.speed_limit_kmh), (0.10, 25.0));
+        assert_eq!(dave2.fitness, FitnessKind::Distance);
+        assert_eq!(beamng.sim_config(), SimConfig::default());
+    }
+}

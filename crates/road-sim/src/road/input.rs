@@ -1,0 +1,180 @@
+//! Reading roads from JSON: the competition's test objects, `test` records of `wogan run`,
+//! `{"curvature": [...], "step": 15}` and bare `[[x, y], ...]` arrays.
+
+use super::curvature::{CurvatureRoad, DEFAULT_STEP_M};
+use super::Point;
+use serde_json::Value;
+
+/// Record types of `wogan run` output that hold no road and are skipped.
+const RECORDS_WITHOUT_ROAD: [&str; 5] = ["header", "train", "summary", "error", "verdict"];
+
+/// What one input line holds.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RoadInput {
+    /// A road given by its points.
+    Points(Vec<Point>),
+    /// A road given by curvature values (1/m), turned into points.
+    Curvature {
+        /// Curvature values, 1/m.
+        curvature: Vec<f64>,
+        /// The road points they make.
+        points: Vec<Point>,
+    },
+    /// A record that holds no road (`header`, `train`, `summary` of a run): nothing to do.
+    Skip,
+}
+
+impl RoadInput {
+    /// The road points, if the input holds a road.
+    pub fn points(&self) -> Option<&[Point]> {
+        match self {
+            RoadInput::Points(points) | RoadInput::Curvature { points, .. } => Some(points),
+            RoadInput::Skip => None,
+        }
+    }
+}
+
+/// Why an input line holds no road; the text names the field at fault.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum InputError {
+    /// The line is not JSON.
+    #[error("not JSON: {0}")]
+    NotJson(String),
+    /// The JSON has none of the accepted road forms.
+    #[error("no road: expected an object with \"road_points\" or \"curvature\", or an array of [x, y] points")]
+    NoRoad,
+    /// A field holds the wrong kind of value.
+    #[error("{field}: {problem}")]
+    BadField {
+        /// Where in the object, e.g. `road_points[3]`.
+        field: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+}
+
+fn bad(field: impl Into<String>, problem: impl Into<String>) -> InputError {
+    InputError::BadField {
+        field: field.into(),
+        problem: problem.into(),
+    }
+}
+
+/// Parses one line of input; `map_size_m` places curvature roads.
+pub fn parse_line(line: &str, map_size_m: f64) -> Result<RoadInput, InputError> {
+    let value: Value =
+        serde_json::from_str(line).map_err(|e| InputError::NotJson(e.to_string()))?;
+    parse_value(&value, map_size_m)
+}
+
+/// Reads a road from an already parsed JSON value.
+pub fn parse_value(value: &Value, map_size_m: f64) -> Result<RoadInput, InputError> {
+    match value {
+        Value::Array(_) => Ok(RoadInput::Points(points_of(value, "road")?)),
+        Value::Object(object) => {
+            if let Some(kind) = object.get("type").and_then(Value::as_str) {
+                if RECORDS_WITHOUT_ROAD.contains(&kind) {
+                    return Ok(RoadInput::Skip);
+                }
+            }
+            if let Some(points) = object.get("road_points") {
+                return Ok(RoadInput::Points(points_of(points, "road_points")?));
+            }
+            if let Some(curvature) = object.get("curvature") {
+                let curvature = numbers_of(curvature, "curvature")?;
+                let step_m = match object.get("step") {
+                    None | Some(Value::Null) => DEFAULT_STEP_M,
+                    Some(step) => step
+                        .as_f64()
+                        .filter(|s| s.is_finite() && *s > 0.0)
+                        .ok_or_else(|| bad("step", "expected a positive number of metres"))?,
+                };
+                let points = CurvatureRoad { map_size_m, step_m }.points(&curvature);
+                return Ok(RoadInput::Curvature { curvature, points });
+            }
+            Err(InputError::NoRoad)
+        }
+        _ => Err(InputError::NoRoad),
+    }
+}
+
+fn numbers_of(value: &Value, field: &str) -> Result<Vec<f64>, InputError> {
+    let items = value
+        .as_array()
+        .ok_or_else(|| bad(field, "expected an array of numbers"))?;
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            v.as_f64()
+                .ok_or_else(|| bad(format!("{field}[{i}]"), "expected a number"))
+        })
+        .collect()
+}
+
+/// Points as `[x, y]` (extra entries, like the competition's z and width, are ignored).
+fn points_of(value: &Value, field: &str) -> Result<Vec<Point>, InputError> {
+    let items = value
+        .as_array()
+        .ok_or_else(|| bad(field, "expected an array of [x, y] points"))?;
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, point)| {
+            let coords = point.as_array().filter(|c| c.len() >= 2);
+            match coords.map(|c| (c[0].as_f64(), c[1].as_f64())) {
+                Some((Some(x), Some(y))) => Ok([x, y]),
+                _ => Err(bad(format!("{field}[{i}]"), "expected [x, y] with numbers")),
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn accepts_every_road_form() {
+        let bare = parse_line("[[1, 2], [3, 4]]", 200.0).unwrap();
+        assert_eq!(bare, RoadInput::Points(vec![[1.0, 2.0], [3.0, 4.0]]));
+        let competition = parse_line(
+            r#"{"road_points": [[1, 2, -28, 8], [3, 4, -28, 8]]}"#,
+            200.0,
+        )
+        .unwrap();
+        assert_eq!(competition, bare);
+        let record = parse_line(
+            r#"{"type": "test", "id": 3, "road_points": [[1, 2], [3, 4]]}"#,
+            200.0,
+        )
+        .unwrap();
+        assert_eq!(record, bare);
+        let curvature = parse_line(r#"{"curvature": [0, 0], "step": 10}"#, 100.0).unwrap();
+        assert_eq!(
+            curvature.points().unwrap(),
+            &[[50.0, 10.0], [50.0, 20.0], [50.0, 30.0]]
+        );
+        assert_eq!(
+            parse_line(r#"{"type": "summary"}"#, 200.0).unwrap(),
+            RoadInput::Skip
+        );
+    }
+
+    #[test]
+    fn errors_name_the_field() {
+        let err = parse_line(r#"{"road_points": [[1, 2], [3, "x"]]}"#, 200.0).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "road_points[1]: expected [x, y] with numbers"
+        );
+        let err = parse_line(r#"{"curvature": [0.1, null]}"#, 200.0).unwrap_err();
+        assert_eq!(err.to_string(), "curvature[1]: expected a number");
+        assert!(matches!(
+            parse_line("{nope", 200.0),
+            Err(InputError::NotJson(_))
+        ));
+        assert_eq!(parse_line(r#"{"a": 1}"#, 200.0), Err(InputError::NoRoad));
+        assert_eq!(parse_line("42", 200.0), Err(InputError::NoRoad));
+    }
+}

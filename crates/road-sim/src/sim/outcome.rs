@@ -1,0 +1,188 @@
+//! What a simulation reports: the outcome, the oracle's figures and an optional trace.
+
+use serde::{Deserialize, Deserializer, Serialize};
+
+/// Verdict of one drive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "UPPERCASE")]
+pub enum Outcome {
+    /// The car reached the end of the road in its lane.
+    Pass,
+    /// The car left its lane, stopped, or ran out of time.
+    Fail,
+    /// The simulation itself broke down.
+    Error,
+}
+
+/// Why a drive stopped before reaching the end of the road.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// BOLP exceeded the oob tolerance.
+    OutOfLane,
+    /// The car moved less than 1 m in 10 s of simulated time.
+    NotMoving,
+    /// The drive took longer than the road's time limit.
+    Timeout,
+    /// The physics state became non-finite.
+    NonFinitePhysicsState,
+    /// The driver asked for a non-finite steering, throttle or brake.
+    NonFiniteCommand,
+}
+
+/// One oracle sample of the drive.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Sample {
+    /// Simulated time, seconds.
+    pub t: f64,
+    /// Car centre, metres.
+    pub x: f64,
+    /// Car centre, metres.
+    pub y: f64,
+    /// Heading, radians counter-clockwise from east.
+    pub heading: f64,
+    /// Speed, km/h.
+    pub speed_kmh: f64,
+    /// Steering angle of the front wheels, degrees, positive left.
+    pub steering_deg: f64,
+    /// Share of the car's footprint outside the right lane.
+    pub bolp: f64,
+    /// Signed distance from the car centre to the lane's left edge (the road's centre line),
+    /// metres, positive inside the lane.
+    pub dist_left_m: f64,
+    /// Signed distance from the car centre to the lane's right edge (the road's right edge),
+    /// metres, positive inside the lane.
+    pub dist_right_m: f64,
+}
+
+/// Result of one drive.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SimResult {
+    /// PASS, FAIL or ERROR.
+    pub outcome: Outcome,
+    /// Why the drive did not pass.
+    pub reason: Option<StopReason>,
+    /// Largest BOLP over the samples, `[0, 1]`.
+    #[serde(deserialize_with = "nan_for_null")]
+    pub max_bolp: f64,
+    /// Smallest signed distance of the car centre to the lane's edges over the samples, metres
+    /// (2 when always centred, negative when the centre left the lane).
+    #[serde(deserialize_with = "nan_for_null")]
+    pub min_lane_distance_m: f64,
+    /// Fitness from the lane distance, `[0, 1]`: `clamp((2 - min_lane_distance_m) / 2.85, 0, 1)`,
+    /// 0 when the car stays centred, 1 when its centre got 0.85 m outside the lane.
+    #[serde(deserialize_with = "nan_for_null")]
+    pub fitness_distance: f64,
+    /// Simulated time, seconds.
+    #[serde(deserialize_with = "nan_for_null")]
+    pub sim_time_s: f64,
+    /// Wall time of the simulation, milliseconds.
+    #[serde(deserialize_with = "nan_for_null")]
+    pub execution_ms: f64,
+    /// The competition's MAX_CURV of the road, 1/m.
+    #[serde(rename = "MAX_CURV")]
+    #[serde(deserialize_with = "nan_for_null")]
+    pub max_curv: f64,
+    /// The competition's DIR_COV of the road.
+    #[serde(rename = "DIR_COV")]
+    #[serde(deserialize_with = "nan_for_null")]
+    pub dir_cov: f64,
+    /// Population standard deviation of the front wheels' steering angle, degrees.
+    #[serde(rename = "STD_SA")]
+    #[serde(deserialize_with = "nan_for_null")]
+    pub std_sa: f64,
+    /// Mean over the samples of `2 - distance from the car centre to the right lane's centre`.
+    #[serde(rename = "MEAN_LP")]
+    #[serde(deserialize_with = "nan_for_null")]
+    pub mean_lp: f64,
+    /// Largest such value.
+    #[serde(rename = "MAX_LP")]
+    #[serde(deserialize_with = "nan_for_null")]
+    pub max_lp: f64,
+    /// The samples, when a trace was asked for.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub trace: Option<Vec<Sample>>,
+}
+
+/// Reads a number that serde_json wrote as `null` (it writes NaN and infinities so) as NaN, so
+/// that a drive whose figures broke down still reads back.
+fn nan_for_null<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::NAN))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outcome_serialises_upper_case() {
+        assert_eq!(serde_json::to_string(&Outcome::Pass).unwrap(), "\"PASS\"");
+        assert_eq!(serde_json::to_string(&Outcome::Error).unwrap(), "\"ERROR\"");
+    }
+
+    #[test]
+    fn stop_reasons_serialise_as_before() {
+        let names = [
+            (StopReason::OutOfLane, "out_of_lane"),
+            (StopReason::NotMoving, "not_moving"),
+            (StopReason::Timeout, "timeout"),
+            (
+                StopReason::NonFinitePhysicsState,
+                "non_finite_physics_state",
+            ),
+            (StopReason::NonFiniteCommand, "non_finite_command"),
+        ];
+        for (reason, name) in names {
+            assert_eq!(
+                serde_json::to_string(&reason).unwrap(),
+                format!("\"{name}\"")
+            );
+        }
+    }
+
+    #[test]
+    fn a_result_serialises_with_the_competition_names() {
+        let result = SimResult {
+            outcome: Outcome::Fail,
+            reason: Some(StopReason::OutOfLane),
+            max_bolp: 0.9,
+            min_lane_distance_m: -0.2,
+            fitness_distance: 0.8,
+            sim_time_s: 12.0,
+            execution_ms: 3.0,
+            max_curv: 0.05,
+            dir_cov: 0.3,
+            std_sa: 4.0,
+            mean_lp: 1.5,
+            max_lp: 2.0,
+            trace: None,
+        };
+        let json = serde_json::to_value(&result).unwrap();
+        let mut keys: Vec<&str> = json
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(String::as_str)
+            .collect();
+        keys.sort_unstable();
+        let mut expected = [
+            "outcome",
+            "reason",
+            "max_bolp",
+            "min_lane_distance_m",
+            "fitness_distance",
+            "sim_time_s",
+            "execution_ms",
+            "MAX_CURV",
+            "DIR_COV",
+            "STD_SA",
+            "MEAN_LP",
+            "MAX_LP",
+        ];
+        expected.sort_unstable();
+        assert_eq!(keys, expected);
+        assert_eq!(json["reason"], "out_of_lane");
+        let back: SimResult = serde_json::from_value(json).unwrap();
+        assert_eq!(back, result);
+    }
+}

@@ -1,0 +1,638 @@
+//! A forward-looking camera on the car: renders the flat world (grass, asphalt, a solid yellow
+//! centre line, white edge lines, sky above the horizon) as a pinhole camera sees it, at
+//! DAVE-2's input size (66 x 200).
+//!
+//! Frames are grayscale by default (the network's first convolution then costs a third of the
+//! RGB one); [`Camera::render_rgb`] gives the same picture in colour for looking at (PNG). The
+//! gray levels are the luma of the colours, so both show the same scene.
+//!
+//! Speed: the camera is fixed to the car, so each pixel's ground-plane hit point in the car's
+//! frame is computed once ([`Camera::new`]); a frame transforms those points to the world and
+//! classifies each by its distance to the road's centre line, found through a uniform grid of the
+//! centre line's segments built once per road ([`RoadScene::new`]). Along an image row the ground
+//! points are evenly spaced and the distance to the centre line is 1-Lipschitz, so after one exact
+//! classification the pixels that cannot change class are filled without a search (exactly the
+//! per-pixel result; a test checks it).
+//!
+//! Mounting (defaults, [`CameraParams`]): 1.5 m above the ground, 0.5 m ahead of the car's centre,
+//! pitched 8° down, 75° horizontal field of view; rows 0–14 are sky and the nearest ground
+//! seen is about 4 m ahead. Changing these changes every frame: weights trained on one camera
+//! do not carry over to another.
+
+use super::frame::Frame;
+use crate::road::{Point, Road, ROAD_WIDTH_M};
+
+/// DAVE-2's input height, pixels.
+pub const FRAME_HEIGHT: usize = 66;
+/// DAVE-2's input width, pixels.
+pub const FRAME_WIDTH: usize = 200;
+
+/// Width of the painted lines (yellow centre line, white edge lines), metres.
+pub const LINE_WIDTH_M: f64 = 0.15;
+/// Distance of the white edge lines' outer border inside the road's edge, metres.
+pub const EDGE_LINE_INSET_M: f64 = 0.1;
+
+/// What a ground (or sky) point shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Surface {
+    /// Above the horizon.
+    Sky = 0,
+    /// Off the road.
+    Grass = 1,
+    /// Road surface.
+    Asphalt = 2,
+    /// The centre line.
+    Yellow = 3,
+    /// An edge line.
+    White = 4,
+}
+
+/// Colours of the surfaces, RGB.
+pub const RGB: [[u8; 3]; 5] = [
+    [135, 180, 230],
+    [60, 120, 50],
+    [75, 75, 80],
+    [230, 200, 40],
+    [240, 240, 240],
+];
+
+/// Gray levels of the surfaces (the luma of [`RGB`], ITU-R BT.601).
+pub const GRAY: [u8; 5] = gray_levels();
+
+const fn gray_levels() -> [u8; 5] {
+    let mut g = [0u8; 5];
+    let mut i = 0;
+    while i < 5 {
+        let [r, gr, b] = RGB[i];
+        g[i] = ((299 * r as u32 + 587 * gr as u32 + 114 * b as u32 + 500) / 1000) as u8;
+        i += 1;
+    }
+    g
+}
+
+/// Where the camera sits on the car and what it sees.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraParams {
+    /// Image width, pixels.
+    pub width: usize,
+    /// Image height, pixels.
+    pub height: usize,
+    /// Horizontal field of view, degrees.
+    pub hfov_deg: f64,
+    /// Pitch below the horizontal, degrees.
+    pub pitch_down_deg: f64,
+    /// Height above the ground, metres.
+    pub height_m: f64,
+    /// Forward distance from the car's centre, metres.
+    pub forward_m: f64,
+    /// Ground points farther ahead of the camera than this (metres) show as grass: a haze limit
+    /// (whole image rows, so a row stays evenly spaced on the ground).
+    pub max_range_m: f64,
+}
+
+impl Default for CameraParams {
+    fn default() -> Self {
+        Self {
+            width: FRAME_WIDTH,
+            height: FRAME_HEIGHT,
+            hfov_deg: 75.0,
+            pitch_down_deg: 8.0,
+            height_m: 1.5,
+            forward_m: 0.5,
+            max_range_m: 120.0,
+        }
+    }
+}
+
+/// Half-width of the band around the centre line where anything but grass can be, metres.
+const REACH_M: f64 = ROAD_WIDTH_M / 2.0;
+/// Grid cell size, metres.
+const CELL_M: f64 = 1.0;
+
+/// A centre-line segment: start, unit direction, length; the first and last segments know that
+/// the road ends at their outer ends.
+#[derive(Debug, Clone, Copy)]
+struct Segment {
+    a: [f64; 2],
+    dir: [f64; 2],
+    length: f64,
+    open_start: bool,
+    open_end: bool,
+}
+
+/// A road prepared for rendering: its centre-line segments in a uniform grid (each cell lists
+/// the segments that come within half the road's width of it).
+#[derive(Debug, Clone)]
+pub struct RoadScene {
+    segments: Vec<Segment>,
+    /// The centre line's first and last points.
+    ends: [Point; 2],
+    origin: [f64; 2],
+    cols: usize,
+    rows: usize,
+    /// CSR: cell `k`'s segments are `items[starts[k]..starts[k + 1]]`.
+    starts: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl RoadScene {
+    /// Prepares `road` (its interpolated centre line).
+    pub fn new(road: &Road) -> Self {
+        let c = &road.interpolated;
+        let n = c.len().saturating_sub(1);
+        let mut segments = Vec::with_capacity(n);
+        for i in 0..n {
+            let (a, b) = (c[i], c[i + 1]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let length = dx.hypot(dy);
+            let dir = if length > 0.0 {
+                [dx / length, dy / length]
+            } else {
+                [1.0, 0.0]
+            };
+            segments.push(Segment {
+                a,
+                dir,
+                length,
+                open_start: i == 0,
+                open_end: i + 1 == n,
+            });
+        }
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in c {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        if segments.is_empty() {
+            return Self {
+                segments,
+                ends: [[f64::NAN; 2]; 2],
+                origin: [0.0; 2],
+                cols: 0,
+                rows: 0,
+                starts: vec![0],
+                items: Vec::new(),
+            };
+        }
+        let origin = [lo[0] - REACH_M - CELL_M, lo[1] - REACH_M - CELL_M];
+        let cols = ((hi[0] + REACH_M + CELL_M - origin[0]) / CELL_M).ceil() as usize + 1;
+        let rows = ((hi[1] + REACH_M + CELL_M - origin[1]) / CELL_M).ceil() as usize + 1;
+        let cell_range = |s: &Segment| {
+            let b = [s.a[0] + s.dir[0] * s.length, s.a[1] + s.dir[1] * s.length];
+            let x0 = ((s.a[0].min(b[0]) - REACH_M - origin[0]) / CELL_M).floor() as usize;
+            let x1 = ((s.a[0].max(b[0]) + REACH_M - origin[0]) / CELL_M).floor() as usize;
+            let y0 = ((s.a[1].min(b[1]) - REACH_M - origin[1]) / CELL_M).floor() as usize;
+            let y1 = ((s.a[1].max(b[1]) + REACH_M - origin[1]) / CELL_M).floor() as usize;
+            (x0, x1.min(cols - 1), y0, y1.min(rows - 1))
+        };
+        // Whether segment `s` comes within `REACH_M` of some point of cell `(x, y)`
+        // (conservatively: of a disc around the cell's centre that covers the cell).
+        let touches = |s: &Segment, x: usize, y: usize| {
+            let cx = origin[0] + (x as f64 + 0.5) * CELL_M - s.a[0];
+            let cy = origin[1] + (y as f64 + 0.5) * CELL_M - s.a[1];
+            let t = (cx * s.dir[0] + cy * s.dir[1]).clamp(0.0, s.length);
+            let r = REACH_M + CELL_M * std::f64::consts::FRAC_1_SQRT_2 + 1e-9;
+            (cx - t * s.dir[0]).powi(2) + (cy - t * s.dir[1]).powi(2) <= r * r
+        };
+        let mut counts = vec![0u32; cols * rows + 1];
+        for s in &segments {
+            let (x0, x1, y0, y1) = cell_range(s);
+            for y in y0..=y1 {
+                for x in (x0..=x1).filter(|&x| touches(s, x, y)) {
+                    counts[y * cols + x + 1] += 1;
+                }
+            }
+        }
+        for k in 1..counts.len() {
+            counts[k] += counts[k - 1];
+        }
+        let starts = counts;
+        let mut fill = starts.clone();
+        let mut items = vec![0u32; *starts.last().unwrap_or(&0) as usize];
+        for (i, s) in segments.iter().enumerate() {
+            let (x0, x1, y0, y1) = cell_range(s);
+            for y in y0..=y1 {
+                for x in (x0..=x1).filter(|&x| touches(s, x, y)) {
+                    let k = y * cols + x;
+                    items[fill[k] as usize] = i as u32;
+                    fill[k] += 1;
+                }
+            }
+        }
+        Self {
+            segments,
+            ends: [c[0], c[c.len() - 1]],
+            origin,
+            cols,
+            rows,
+            starts,
+            items,
+        }
+    }
+
+    /// Distance from `p` to the centre line if it is within half the road's width (the road
+    /// ends squarely at its first and last points); `None` farther away.
+    pub fn centre_distance(&self, p: Point) -> Option<f64> {
+        let fx = (p[0] - self.origin[0]) / CELL_M;
+        let fy = (p[1] - self.origin[1]) / CELL_M;
+        if !(fx >= 0.0 && fy >= 0.0) {
+            return None;
+        }
+        let (x, y) = (fx as usize, fy as usize);
+        if x >= self.cols || y >= self.rows {
+            return None;
+        }
+        let k = y * self.cols + x;
+        let mut best = REACH_M * REACH_M;
+        let mut found = false;
+        for &i in &self.items[self.starts[k] as usize..self.starts[k + 1] as usize] {
+            let s = &self.segments[i as usize];
+            let (dx, dy) = (p[0] - s.a[0], p[1] - s.a[1]);
+            let t = dx * s.dir[0] + dy * s.dir[1];
+            if (s.open_start && t < 0.0) || (s.open_end && t > s.length) {
+                continue;
+            }
+            let t = t.clamp(0.0, s.length);
+            let (ex, ey) = (dx - t * s.dir[0], dy - t * s.dir[1]);
+            let d2 = ex * ex + ey * ey;
+            if d2 < best {
+                best = d2;
+                found = true;
+            }
+        }
+        found.then(|| best.sqrt())
+    }
+
+    /// What the ground shows at `p`.
+    pub fn surface(&self, p: Point) -> Surface {
+        self.surface_and_margin(p).0
+    }
+
+    /// What the ground shows at `p`, and a distance (metres, maybe 0) that `p` can move without
+    /// that changing: the distance to the centre line is 1-Lipschitz, and the road's square ends
+    /// matter only within half a road's width of its end points.
+    fn surface_and_margin(&self, p: Point) -> (Surface, f64) {
+        let Some(d) = self.centre_distance(p) else {
+            return (Surface::Grass, 0.0);
+        };
+        let edge_outer = REACH_M - EDGE_LINE_INSET_M;
+        let edge_inner = edge_outer - LINE_WIDTH_M;
+        let surface = if d <= LINE_WIDTH_M / 2.0 {
+            Surface::Yellow
+        } else if d <= edge_outer && d > edge_inner {
+            Surface::White
+        } else if d < REACH_M {
+            Surface::Asphalt
+        } else {
+            Surface::Grass
+        };
+        let mut margin = f64::INFINITY;
+        for b in [LINE_WIDTH_M / 2.0, edge_inner, edge_outer, REACH_M] {
+            margin = margin.min((d - b).abs());
+        }
+        for e in self.ends {
+            margin = margin.min((p[0] - e[0]).hypot(p[1] - e[1]) - REACH_M);
+        }
+        // Keep well clear of the boundaries (rounding).
+        (surface, (margin - 1e-6).max(0.0))
+    }
+}
+
+/// A camera fixed to the car, with its per-pixel ground rays precomputed.
+#[derive(Debug, Clone)]
+pub struct Camera {
+    params: CameraParams,
+    /// Per pixel: the ground point in the car's frame `[forward, left]` metres, or NaN (sky).
+    ground: Vec<[f64; 2]>,
+}
+
+impl Camera {
+    /// A camera with `params`.
+    pub fn new(params: CameraParams) -> Self {
+        let (w, h) = (params.width, params.height);
+        let focal = (w as f64 / 2.0) / (params.hfov_deg.to_radians() / 2.0).tan();
+        let (sin_p, cos_p) = params.pitch_down_deg.to_radians().sin_cos();
+        let mut ground = Vec::with_capacity(w * h);
+        for r in 0..h {
+            // Image coordinates from the optical centre: u right, v down, pixels.
+            let v = r as f64 + 0.5 - h as f64 / 2.0;
+            for c in 0..w {
+                let u = c as f64 + 0.5 - w as f64 / 2.0;
+                // Ray (car frame: forward, left, up) = focal·fwd + u·right + v·down with
+                // fwd = (cos p, 0, −sin p), right = (0, −1, 0), down = (−sin p, 0, −cos p).
+                let fwd = focal * cos_p - v * sin_p;
+                let left = -u;
+                let down = focal * sin_p + v * cos_p;
+                let hit = if down > 0.0 {
+                    let t = params.height_m / down;
+                    let g = [params.forward_m + t * fwd, t * left];
+                    if t * fwd <= params.max_range_m {
+                        g
+                    } else {
+                        // Beyond the haze limit: ground far away, shown as grass.
+                        [f64::INFINITY, 0.0]
+                    }
+                } else {
+                    [f64::NAN, f64::NAN]
+                };
+                ground.push(hit);
+            }
+        }
+        Self { params, ground }
+    }
+
+    /// The camera's parameters.
+    pub fn params(&self) -> &CameraParams {
+        &self.params
+    }
+
+    /// Classifies every pixel for a car at `position` heading `heading_rad` (counter-clockwise
+    /// from east), calling `put(pixel_index, surface)`.
+    fn classify(
+        &self,
+        scene: &RoadScene,
+        position: Point,
+        heading_rad: f64,
+        mut put: impl FnMut(usize, Surface),
+    ) {
+        let (s, c) = heading_rad.sin_cos();
+        let w = self.params.width;
+        let world = |g: &[f64; 2]| {
+            [
+                position[0] + g[0] * c - g[1] * s,
+                position[1] + g[0] * s + g[1] * c,
+            ]
+        };
+        for (r, row) in self.ground.chunks_exact(w).enumerate() {
+            if row[0][0].is_nan() || row[0][0].is_infinite() {
+                let surface = if row[0][0].is_nan() {
+                    Surface::Sky
+                } else {
+                    Surface::Grass
+                };
+                for i in r * w..(r + 1) * w {
+                    put(i, surface);
+                }
+                continue;
+            }
+            // Ground points along a row are evenly spaced: `step` metres apart.
+            let step = if w > 1 {
+                (row[1][0] - row[0][0]).hypot(row[1][1] - row[0][1])
+            } else {
+                f64::INFINITY
+            };
+            let mut col = 0;
+            while col < w {
+                let (surface, margin) = scene.surface_and_margin(world(&row[col]));
+                // Pixels within `margin` of this one show the same.
+                let same = if step > 0.0 {
+                    ((margin / step).floor() as usize).min(w - 1 - col)
+                } else {
+                    w - 1 - col
+                };
+                for i in col..=col + same {
+                    put(r * w + i, surface);
+                }
+                col += same + 1;
+            }
+        }
+    }
+
+    /// Renders the grayscale frame into `out` (resized if needed).
+    pub fn render_into(
+        &self,
+        scene: &RoadScene,
+        position: Point,
+        heading_rad: f64,
+        out: &mut Frame,
+    ) {
+        let (w, h) = (self.params.width, self.params.height);
+        if out.width != w || out.height != h || out.channels != 1 {
+            *out = Frame::new(w, h, 1);
+        }
+        let data = &mut out.data;
+        self.classify(scene, position, heading_rad, |i, s| {
+            data[i] = GRAY[s as usize];
+        });
+    }
+
+    /// The grayscale frame for a car at `position` heading `heading_rad`.
+    pub fn render(&self, scene: &RoadScene, position: Point, heading_rad: f64) -> Frame {
+        let mut f = Frame::new(self.params.width, self.params.height, 1);
+        self.render_into(scene, position, heading_rad, &mut f);
+        f
+    }
+
+    /// The same picture in colour.
+    pub fn render_rgb(&self, scene: &RoadScene, position: Point, heading_rad: f64) -> Frame {
+        let mut f = Frame::new(self.params.width, self.params.height, 3);
+        let data = &mut f.data;
+        self.classify(scene, position, heading_rad, |i, s| {
+            data[3 * i..3 * i + 3].copy_from_slice(&RGB[s as usize]);
+        });
+        f
+    }
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Self::new(CameraParams::default())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::road::LANE_WIDTH_M;
+    use crate::vision::write_png;
+
+    fn straight_road() -> Road {
+        let pts: Vec<Point> = (0..=12).map(|i| [100.0, 10.0 + 15.0 * i as f64]).collect();
+        Road::new(&pts).unwrap()
+    }
+
+    /// Columns of `surface` pixels in row `r`.
+    fn columns_of(
+        scene: &RoadScene,
+        cam: &Camera,
+        pos: Point,
+        heading: f64,
+        r: usize,
+        s: Surface,
+    ) -> Vec<usize> {
+        let f = cam.render(scene, pos, heading);
+        (0..f.width)
+            .filter(|&c| f.get(r, c, 0) == GRAY[s as usize])
+            .collect()
+    }
+
+    #[test]
+    fn gray_levels_are_distinct() {
+        for (i, a) in GRAY.iter().enumerate() {
+            assert!(GRAY[..i].iter().all(|b| b != a), "{GRAY:?}");
+        }
+    }
+
+    #[test]
+    fn straight_road_from_the_lane_centre() {
+        let road = straight_road();
+        let scene = RoadScene::new(&road);
+        let cam = Camera::default();
+        // Right lane centre, heading north.
+        let pos = [102.0, 40.0];
+        let heading = std::f64::consts::FRAC_PI_2;
+        let f = cam.render(&scene, pos, heading);
+        // The top rows are sky, the bottom row ground.
+        let sky = |r: usize| (0..f.width).all(|c| f.get(r, c, 0) == GRAY[Surface::Sky as usize]);
+        assert!((0..=14).all(sky) && !sky(15));
+        let mid = f.width / 2;
+        for r in [45, 55, 65] {
+            let yellow = columns_of(&scene, &cam, pos, heading, r, Surface::Yellow);
+            let white = columns_of(&scene, &cam, pos, heading, r, Surface::White);
+            assert!(!yellow.is_empty(), "row {r}: no yellow");
+            assert!(
+                yellow.iter().all(|&c| c < mid),
+                "row {r}: yellow {yellow:?}"
+            );
+            let right: Vec<usize> = white.iter().copied().filter(|&c| c >= mid).collect();
+            assert!(
+                !right.is_empty(),
+                "row {r}: no white right of centre {white:?}"
+            );
+            // Symmetric: on a ground row, image offsets are proportional to lateral offsets;
+            // the yellow line is 2 m left of the car, the right edge line's middle
+            // 2 m − inset − half a line width right of it.
+            let ly = mid as f64 - yellow.iter().sum::<usize>() as f64 / yellow.len() as f64;
+            let rw = right.iter().sum::<usize>() as f64 / right.len() as f64 - mid as f64;
+            let white_m = LANE_WIDTH_M / 2.0 - EDGE_LINE_INSET_M - LINE_WIDTH_M / 2.0;
+            let ratio = (ly / (LANE_WIDTH_M / 2.0)) / (rw / white_m);
+            assert!((ratio - 1.0).abs() < 0.06, "row {r}: {ly} vs {rw}");
+        }
+        // Grass at the bottom corners is impossible this close; asphalt under the car.
+        assert_eq!(f.get(65, mid, 0), GRAY[Surface::Asphalt as usize]);
+    }
+
+    #[test]
+    fn frames_are_deterministic_and_rgb_matches_gray() {
+        let road = straight_road();
+        let scene = RoadScene::new(&road);
+        let cam = Camera::default();
+        let a = cam.render(&scene, [101.3, 50.0], 1.4);
+        let b = cam.render(&scene, [101.3, 50.0], 1.4);
+        assert_eq!(a, b);
+        let rgb = cam.render_rgb(&scene, [101.3, 50.0], 1.4);
+        for i in 0..a.data.len() {
+            let k = GRAY.iter().position(|&g| g == a.data[i]).unwrap();
+            assert_eq!(&rgb.data[3 * i..3 * i + 3], &RGB[k]);
+        }
+    }
+
+    #[test]
+    fn grid_matches_brute_force() {
+        let pts: Vec<Point> = vec![[50.0, 10.0], [60.0, 60.0], [100.0, 90.0], [150.0, 60.0]];
+        let road = Road::new(&pts).unwrap();
+        let scene = RoadScene::new(&road);
+        let c = &road.interpolated;
+        let n = c.len() - 1;
+        let mut k = 0u64;
+        for ix in 0..120 {
+            for iy in 0..120 {
+                k = k
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let p = [
+                    30.0 + ix as f64 * 1.1 + (k >> 40) as f64 / 1e8,
+                    0.0 + iy as f64 * 1.0,
+                ];
+                let mut best = f64::INFINITY;
+                for i in 0..n {
+                    let (a, b) = (c[i], c[i + 1]);
+                    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                    let l2 = dx * dx + dy * dy;
+                    let t = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2;
+                    if (i == 0 && t < 0.0) || (i + 1 == n && t > 1.0) {
+                        continue;
+                    }
+                    let t = t.clamp(0.0, 1.0);
+                    best = best.min((p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy));
+                }
+                let got = scene.centre_distance(p);
+                if best < REACH_M - 1e-9 {
+                    let d = got.unwrap_or_else(|| panic!("{p:?}: none, expected {best}"));
+                    assert!((d - best).abs() < 1e-9, "{p:?}: {d} vs {best}");
+                } else if best > REACH_M + 1e-9 {
+                    assert!(got.is_none(), "{p:?}: {got:?} vs {best}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn skipping_matches_per_pixel_classification() {
+        let pts: Vec<Point> = vec![[100.0, 10.0], [100.0, 40.0], [120.0, 70.0], [150.0, 80.0]];
+        let road = Road::new(&pts).unwrap();
+        let scene = RoadScene::new(&road);
+        let cam = Camera::default();
+        for (pos, heading) in [
+            ([102.0, 20.0], 1.5),
+            ([101.0, 12.0], 1.6),
+            ([99.0, 8.0], 1.2),
+            ([130.0, 78.0], 0.1),
+            ([148.0, 80.0], 0.3),
+            ([110.0, 60.0], -2.0),
+        ] {
+            let f = cam.render(&scene, pos, heading);
+            let (s, c) = f64::sin_cos(heading);
+            for (i, g) in cam.ground.iter().enumerate() {
+                let want = if g[0].is_nan() {
+                    Surface::Sky
+                } else if g[0].is_infinite() {
+                    Surface::Grass
+                } else {
+                    scene.surface([pos[0] + g[0] * c - g[1] * s, pos[1] + g[0] * s + g[1] * c])
+                };
+                assert_eq!(f.data[i], GRAY[want as usize], "{pos:?} pixel {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn png_round_trips() {
+        let road = straight_road();
+        let scene = RoadScene::new(&road);
+        let cam = Camera::default();
+        let dir = std::env::temp_dir();
+        for (name, frame) in [
+            ("gray", cam.render(&scene, [102.0, 30.0], 1.5)),
+            ("rgb", cam.render_rgb(&scene, [102.0, 30.0], 1.5)),
+        ] {
+            let path = dir.join(format!("road-sim-camera-{}-{name}.png", std::process::id()));
+            write_png(&path, &frame).unwrap();
+            let decoder =
+                png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+            let mut reader = decoder.read_info().unwrap();
+            let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+            let info = reader.next_frame(&mut buf).unwrap();
+            std::fs::remove_file(&path).unwrap();
+            assert_eq!((info.width, info.height), (200, 66));
+            assert_eq!(&buf[..info.buffer_size()], &frame.data[..]);
+        }
+    }
+
+    #[test]
+    #[ignore = "writes PNGs to target/ for a look"]
+    fn write_sample_pngs() {
+        let pts: Vec<Point> = vec![[100.0, 10.0], [100.0, 40.0], [120.0, 70.0], [150.0, 80.0]];
+        let road = Road::new(&pts).unwrap();
+        let scene = RoadScene::new(&road);
+        let cam = Camera::default();
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target");
+        let f = cam.render_rgb(&scene, [102.0, 20.0], std::f64::consts::FRAC_PI_2);
+        write_png(&dir.join("camera_rgb.png"), &f).unwrap();
+        let f = cam.render(&scene, [102.0, 20.0], std::f64::consts::FRAC_PI_2);
+        write_png(&dir.join("camera_gray.png"), &f).unwrap();
+    }
+}

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Writes the outputs of a fixed set of wogan commands into DIR, with every timing field masked, so
+# that two builds can be compared with `diff -r`: a refactoring that keeps behaviour leaves them equal.
+#
+#   scripts/output_parity.sh BIN DIR      e.g. scripts/output_parity.sh target/release/wogan /tmp/after
+#
+# Masked fields (they measure the machine, not the result): generation_ms, execution_ms, wall_s,
+# generation_s, training_s, simulation_s and train records' train_ms; in the export's CSV, the
+# real-time columns.
+set -euo pipefail
+bin=$(realpath "$1")
+out=$2
+here=$(cd "$(dirname "$0")/.." && pwd)
+roads=$here/tests/reference/roads.jsonl
+mkdir -p "$out"
+mask='walk(if type == "object" then with_entries(if (.key | IN("generation_ms","execution_ms","wall_s","generation_s","training_s","simulation_s","train_ms")) then .value = "masked" else . end) else . end)'
+masked() { jq -c "$mask"; }
+
+for oracle in beamng-ai-proxy dave2-proxy; do
+  "$bin" run --oracle "$oracle" --seed 7 --max-tests 40 --quiet --out "$out/run.$oracle.raw.jsonl"
+  masked < "$out/run.$oracle.raw.jsonl" > "$out/run.$oracle.jsonl"
+  head -n 20 "$roads" | "$bin" simulate --oracle "$oracle" | masked > "$out/simulate.$oracle.jsonl"
+done
+"$bin" run --algorithm random --seed 7 --max-tests 40 --quiet --out "$out/run.random.raw.jsonl"
+masked < "$out/run.random.raw.jsonl" > "$out/run.random.jsonl"
+head -n 1 "$roads" | "$bin" simulate --trace "$out/trace" > /dev/null
+masked < "$out/trace/trace.1.jsonl" > "$out/trace.1.jsonl"
+rm -r "$out/trace"
+# Valid, invalid and unreadable lines.
+{ head -n 50 "$roads"; echo '[[0, 0], [1, 1]]'; echo '{"curvature": [0.5, 0.5, 0.5]}'; echo 'not json'; } \
+  | "$bin" validate > "$out/validate.jsonl" || true
+# Reports and the export are made from the committed fixtures, whose timings are fixed.
+"$bin" report "$here"/tests/fixtures/wogan.seed*.jsonl --vs "$here"/tests/fixtures/random.seed*.jsonl --out "$out/report" > /dev/null
+"$bin" export "$out/run.beamng-ai-proxy.raw.jsonl" "$out/export" > /dev/null
+for f in "$out"/export/*.json; do jq -S "$mask" "$f" > "$f.masked" && mv "$f.masked" "$f"; done
+# generation_stats.csv: keep the counts and the simulated time, drop the two real-time columns.
+cut -d, -f1-6,9 "$out/export/generation_stats.csv" > "$out/export/generation_stats.masked.csv"
+rm "$out/export/generation_stats.csv"
+rm "$out"/run.*.raw.jsonl
+echo "wrote $out"

@@ -1,0 +1,10 @@
+//! End-to-end tests of the `wogan` binary, and the checks of the simulator against the reference
+//! vectors of the competition's pipeline, in one test binary (one link of burn and rapier).
+
+mod common;
+mod reference_vectors;
+mod report;
+mod run;
+mod simulate;
+mod train_driver;
+mod validate;

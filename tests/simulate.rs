@@ -1,0 +1,152 @@
+//! End-to-end tests of `wogan simulate`.
+
+use crate::common::{records, wogan};
+use serde_json::Value;
+
+fn reference_roads(count: usize) -> String {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/reference/roads.jsonl"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines().take(count).collect::<Vec<_>>().join("\n")
+}
+
+fn without_timing(mut record: Value) -> Value {
+    record.as_object_mut().unwrap().remove("execution_ms");
+    record
+}
+
+#[test]
+fn results_are_identical_with_any_number_of_jobs() {
+    let roads = reference_roads(40);
+    let one = records(&wogan(&["simulate"], &roads));
+    let two = records(&wogan(&["simulate", "--jobs", "2"], &roads));
+    assert_eq!(one.len(), 40);
+    for (i, (a, b)) in one.iter().zip(&two).enumerate() {
+        assert_eq!(a["line"], i + 1);
+        assert_eq!(without_timing(a.clone()), without_timing(b.clone()));
+        for field in [
+            "max_bolp",
+            "min_lane_distance_m",
+            "fitness_distance",
+            "sim_time_s",
+            "MAX_CURV",
+            "DIR_COV",
+            "STD_SA",
+            "MEAN_LP",
+            "MAX_LP",
+        ] {
+            assert!(a[field].is_number(), "line {} lacks {field}", i + 1);
+        }
+    }
+}
+
+#[test]
+fn invalid_roads_are_not_driven_and_bad_lines_reported() {
+    let input = "[[1, 10], [1, 50]]\nnot json\n{\"curvature\": [0, 0, 0]}";
+    let output = wogan(&["simulate"], input);
+    assert_eq!(output.status.code(), Some(1));
+    let records = records(&output);
+    assert_eq!(records[0]["outcome"], "INVALID");
+    assert_eq!(records[0]["reason"], "outside_map");
+    assert_eq!(records[1]["type"], "error");
+    assert_eq!(records[1]["line"], 2);
+    assert_eq!(records[2]["outcome"], "PASS");
+}
+
+#[test]
+fn trace_files_hold_the_road_and_the_samples() {
+    let dir = std::env::temp_dir().join(format!("wogan-trace-{}", std::process::id()));
+    let roads = reference_roads(2);
+    let output = wogan(&["simulate", "--trace", dir.to_str().unwrap()], &roads);
+    assert_eq!(output.status.code(), Some(0));
+    let text = std::fs::read_to_string(dir.join("trace.2.jsonl")).expect("trace of line 2");
+    let lines: Vec<Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines[0]["type"], "road");
+    assert!(lines[0]["interpolated_points"].as_array().unwrap().len() > 60);
+    let samples = &lines[1..];
+    assert!(samples.len() > 100, "20 Hz or more over several seconds");
+    assert!(samples
+        .iter()
+        .all(|s| s["type"] == "sample" && s["speed_kmh"].is_number() && s["bolp"].is_number()));
+    let times: Vec<f64> = samples.iter().map(|s| s["t"].as_f64().unwrap()).collect();
+    assert!(times.windows(2).all(|w| w[1] > w[0]));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn camera_writes_the_drivers_view_as_png() {
+    let dir = std::env::temp_dir().join(format!("wogan-camera-{}", std::process::id()));
+    let road = reference_roads(1);
+    let out = dir.to_str().unwrap();
+    for (args, channels) in [
+        (&["camera", "--at", "2.5,40", "--out", out][..], 2u8),
+        (&["camera", "--at", "10", "--gray", "--out", out], 0),
+    ] {
+        let output = wogan(args, &road);
+        assert_eq!(
+            output.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let name = if channels == 2 {
+            "camera.40.png"
+        } else {
+            "camera.10.png"
+        };
+        let png = std::fs::read(dir.join(name)).expect("a PNG was written");
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+        // IHDR: width 200, height 66, 8 bits, colour type 2 (RGB) or 0 (gray).
+        assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 200);
+        assert_eq!(u32::from_be_bytes(png[20..24].try_into().unwrap()), 66);
+        assert_eq!(png[25], channels);
+    }
+    let invalid = wogan(&["camera", "--out", out], "[[1, 1], [2, 2]]");
+    assert_eq!(invalid.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn dave2_proxy_drives_with_its_own_defaults() {
+    let output = wogan(
+        &[
+            "simulate",
+            "--oracle",
+            "dave2-proxy",
+            "--trace",
+            std::env::temp_dir()
+                .join(format!("wogan-dave2-{}", std::process::id()))
+                .to_str()
+                .unwrap(),
+        ],
+        &reference_roads(3),
+    );
+    assert_eq!(output.status.code(), Some(0));
+    for record in records(&output) {
+        assert!(
+            ["PASS", "FAIL"].contains(&record["outcome"].as_str().unwrap()),
+            "{record}"
+        );
+        assert!(record["STD_SA"].is_number());
+    }
+    let trace = std::env::temp_dir()
+        .join(format!("wogan-dave2-{}", std::process::id()))
+        .join("trace.1.jsonl");
+    let text = std::fs::read_to_string(&trace).unwrap();
+    let top_speed = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            serde_json::from_str::<Value>(l).unwrap()["speed_kmh"]
+                .as_f64()
+                .unwrap()
+        })
+        .fold(0.0, f64::max);
+    // Its speed limit is 25 km/h, not beamng-ai-proxy's 70.
+    assert!(top_speed > 15.0 && top_speed < 27.5, "{top_speed}");
+}
