@@ -87,7 +87,7 @@ export MISSING=$missing
 
 mkdir -p "$WORK" "$(dirname "$OUT")"
 python3 - <<'PY'
-import glob, json, os, statistics, subprocess, sys, time
+import datetime, glob, json, os, statistics, subprocess, sys, time
 
 WOGAN = os.environ["WOGAN"]
 SEEDS = os.environ["SEEDS"].split()
@@ -564,6 +564,37 @@ def bench_section(bench, per_road):
 
 
 # ---------------------------------------------------------------------------------------------
+# The bench commands that are not criterion's: the most expensive work the settings' ranges
+# accept (one road, one drive, one WOGAN round) and the streaming filters' latency. Each is run
+# by hand (minutes, for the DAVE-2 corner) with its output kept in target/bench-output/NAME.txt.
+BENCH_COMMANDS = [
+    ("road-sim-corners", "cargo bench -p road-sim --bench corners"),
+    ("wogan-core-corners", "cargo bench -p wogan-core --bench corners"),
+    ("streaming", "cargo bench -p wogan-cli --bench streaming"),
+]
+
+
+def bounds_section():
+    out()
+    out("## Bounds and streaming (bench commands)")
+    out()
+    out("The most expensive setting each range accepts (docs/reference.md, \"Valid ranges\"), and the "
+        "time from a line written to `simulate`/`validate` to its answer. Each line is the command's "
+        "own output, kept with the date it was made:")
+    out()
+    for name, command in BENCH_COMMANDS:
+        path = f"target/bench-output/{name}.txt"
+        if not os.path.exists(path):
+            out(f"- not measured yet: `{command} | tee {path}`")
+            continue
+        when = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc)
+        lines = [l.strip() for l in open(path) if l.startswith(("validator corner", "drive corner",
+                                                                    "wogan corner", "wogan "))]
+        for line in lines:
+            out(f"- {line} ({when:%Y-%m-%d}; `{command}`)")
+
+
+# ---------------------------------------------------------------------------------------------
 # The built-in driver's training: 8-9 minutes, so it is read from a saved output line rather than
 # rerun here.
 def find_key(obj, key):
@@ -659,6 +690,7 @@ def main():
     per_road = reference_roads_section(bench)
     fidelity_section()
     bench_section(bench, per_road)
+    bounds_section()
     trained = training_section()
     earlier_section(trained)
     with open(os.environ["OUT"], "w") as f:

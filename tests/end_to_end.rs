@@ -2,8 +2,11 @@
 //! vectors of the competition's pipeline, in one test binary (one link of burn and rapier).
 
 mod common;
+mod export;
+mod fuzz;
 mod reference_vectors;
 mod report;
+mod robustness;
 mod run;
 mod simulate;
 mod train_driver;

@@ -1,20 +1,25 @@
-//! End-to-end tests of `wogan report` and `wogan export` on small committed fixture runs
-//! (tests/fixtures: two WOGAN runs, seeds 3 and 4, 5 and 1 failures; two random runs, seeds 4 and
-//! 5, 2 failures each; 30 tests each, made with `wogan run --max-tests 30 --seed N`).
+//! End-to-end tests of `wogan report` on small committed fixture runs (tests/fixtures: two WOGAN
+//! runs, seeds 3 and 4, 5 and 1 failures; two random runs, seeds 4 and 5, 2 failures each; 30
+//! tests each, made with `wogan run --max-tests 30 --seed N`), on variants of them with other
+//! conditions in their headers, and on synthetic runs written here (10,000 failing roads, or
+//! roads that all end in one place) for the pictures' limits.
 
 use crate::common::{scratch_dir, wogan, wogan_ok};
-use serde_json::Value;
+use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
-fn fixture(name: &str) -> String {
+/// The path of a committed fixture.
+pub fn fixture(name: &str) -> String {
     format!("{}/../../tests/fixtures/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
-fn path_str(path: &Path) -> &str {
+/// A path as the `&str` an argument list takes.
+pub fn path_str(path: &Path) -> &str {
     path.to_str().expect("UTF-8 path")
 }
 
-fn read(path: &Path) -> String {
+/// A file's text.
+pub fn read(path: &Path) -> String {
     std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -40,6 +45,277 @@ fn texts(path: &Path) -> Vec<String> {
         .filter(|n| n.tag_name().name() == "text")
         .map(|n| n.text().unwrap_or("").trim().to_owned())
         .collect()
+}
+
+/// Estimated advance of a character, in ems of its font size (sans-serif text averages about
+/// 0.55; the estimate errs wide).
+const CHAR_WIDTH_EM: f64 = 0.6;
+
+/// A `<text>` element of an SVG with its estimated extent, pixels.
+#[derive(Debug)]
+struct TextBox {
+    text: String,
+    left: f64,
+    top: f64,
+    right: f64,
+    bottom: f64,
+}
+
+impl TextBox {
+    fn overlaps(&self, other: &TextBox) -> bool {
+        self.left < other.right
+            && other.left < self.right
+            && self.top < other.bottom
+            && other.top < self.bottom
+    }
+}
+
+/// A number attribute of an SVG element.
+fn number(node: roxmltree::Node, name: &str) -> f64 {
+    let value = node
+        .attribute(name)
+        .unwrap_or_else(|| panic!("<{}> without {name}", node.tag_name().name()));
+    value
+        .parse()
+        .unwrap_or_else(|e| panic!("{name}=\"{value}\": {e}"))
+}
+
+/// The view box of an SVG file (width, height) and the estimated box of each of its `<text>`
+/// elements: as wide as its characters times [`CHAR_WIDTH_EM`] times its font size and one font
+/// size high, placed by its anchor, its baseline shift (plotters writes one per vertical
+/// position) and its rotation.
+fn text_boxes(path: &Path) -> ((f64, f64), Vec<TextBox>) {
+    let svg = read(path);
+    let document =
+        roxmltree::Document::parse(&svg).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let root = document.root_element();
+    let view = match root.attribute("viewBox") {
+        Some(view) => {
+            let n: Vec<f64> = view
+                .split([' ', ','])
+                .filter(|s| !s.is_empty())
+                .map(|s| s.parse().expect("a viewBox number"))
+                .collect();
+            assert_eq!(n[..2], [0.0, 0.0], "{}: viewBox {view}", path.display());
+            (n[2], n[3])
+        }
+        None => (number(root, "width"), number(root, "height")),
+    };
+    let boxes = document
+        .descendants()
+        .filter(|n| n.tag_name().name() == "text")
+        .map(|node| {
+            let text = node.text().unwrap_or("").trim().to_owned();
+            let (x, y, size) = (
+                number(node, "x"),
+                number(node, "y"),
+                number(node, "font-size"),
+            );
+            let width = text.chars().count() as f64 * size * CHAR_WIDTH_EM;
+            let (left, right) = match node.attribute("text-anchor").unwrap_or("start") {
+                "start" => (0.0, width),
+                "middle" => (-width / 2.0, width / 2.0),
+                "end" => (-width, 0.0),
+                other => panic!("text-anchor {other}"),
+            };
+            let (top, bottom) = match node.attribute("dy") {
+                Some("0.76em") => (0.0, size),
+                Some("0.5ex") => (-size / 2.0, size / 2.0),
+                Some("-0.5ex") => (-size, 0.0),
+                None => (-0.8 * size, 0.2 * size),
+                Some(other) => panic!("dy {other}"),
+            };
+            // plotters rotates text about its anchor: `rotate(angle, x, y)`.
+            let angle = node.attribute("transform").map_or(0.0, |t| {
+                let inner = t
+                    .strip_prefix("rotate(")
+                    .and_then(|t| t.strip_suffix(')'))
+                    .unwrap_or_else(|| panic!("transform {t}"));
+                let n: Vec<f64> = inner
+                    .split(',')
+                    .map(|v| v.trim().parse().expect("a rotate number"))
+                    .collect();
+                assert_eq!(n[1..], [x, y], "rotation about another point: {t}");
+                n[0]
+            });
+            let (sin, cos) = f64::to_radians(angle).sin_cos();
+            let corners = [(left, top), (right, top), (left, bottom), (right, bottom)]
+                .map(|(dx, dy)| (x + dx * cos - dy * sin, y + dx * sin + dy * cos));
+            let xs = corners.map(|c| c.0);
+            let ys = corners.map(|c| c.1);
+            TextBox {
+                text,
+                left: xs.into_iter().fold(f64::MAX, f64::min),
+                right: xs.into_iter().fold(f64::MIN, f64::max),
+                top: ys.into_iter().fold(f64::MAX, f64::min),
+                bottom: ys.into_iter().fold(f64::MIN, f64::max),
+            }
+        })
+        .collect();
+    (view, boxes)
+}
+
+/// Asserts that every text of an SVG file lies inside its view box (half a pixel of rounding
+/// allowed).
+fn assert_texts_inside(path: &Path) {
+    let ((width, height), boxes) = text_boxes(path);
+    assert!(!boxes.is_empty(), "{}: no text", path.display());
+    for b in &boxes {
+        assert!(
+            b.left >= -0.5 && b.top >= -0.5 && b.right <= width + 0.5 && b.bottom <= height + 0.5,
+            "{}: {:?} spans x {:.1}..{:.1}, y {:.1}..{:.1}, outside 0..{width} x 0..{height}",
+            path.display(),
+            b.text,
+            b.left,
+            b.right,
+            b.top,
+            b.bottom
+        );
+    }
+}
+
+/// Asserts [`assert_texts_inside`] of every SVG file in `dir`; returns how many there were.
+fn assert_texts_inside_every_svg(dir: &Path) -> usize {
+    let mut svgs = 0;
+    for entry in std::fs::read_dir(dir).expect("a directory") {
+        let path = entry.expect("an entry").path();
+        if path.extension().is_some_and(|e| e == "svg") {
+            assert_texts_inside(&path);
+            svgs += 1;
+        }
+    }
+    svgs
+}
+
+/// An SVG `<rect>`: left, top, right, bottom.
+type Rect = [f64; 4];
+
+/// The bars of a histogram SVG (blue filled rectangles) and its legend's border, if any.
+fn bars_and_legend(path: &Path) -> (Vec<Rect>, Option<Rect>) {
+    let svg = read(path);
+    let document =
+        roxmltree::Document::parse(&svg).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let rect = |node: roxmltree::Node| {
+        let (x, y) = (number(node, "x"), number(node, "y"));
+        [x, y, x + number(node, "width"), y + number(node, "height")]
+    };
+    let rects: Vec<roxmltree::Node> = document
+        .descendants()
+        .filter(|n| n.tag_name().name() == "rect")
+        .collect();
+    let bars = rects
+        .iter()
+        .filter(|n| n.attribute("fill") == Some("#0000FF"))
+        .map(|&n| rect(n))
+        .collect();
+    let borders: Vec<Rect> = rects
+        .iter()
+        .filter(|n| n.attribute("fill") == Some("none") && n.attribute("stroke") == Some("#000000"))
+        .map(|&n| rect(n))
+        .collect();
+    assert!(borders.len() <= 1, "{}: {borders:?}", path.display());
+    (bars, borders.first().copied())
+}
+
+/// A deterministic stream of numbers in [0, 1) (xorshift64), for synthetic runs.
+struct Numbers(u64);
+
+impl Numbers {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// One test of a synthetic run.
+struct SyntheticTest {
+    /// Curvature values, 1/m.
+    curvature: Vec<f64>,
+    max_bolp: f64,
+    failed: bool,
+}
+
+/// The road points of curvature values as `wogan run` makes them: from (100, 10) 15 m north,
+/// then a 15 m step for each value but the last, turned by the value times the step.
+fn road_points(curvature: &[f64]) -> Vec<[f64; 2]> {
+    let mut points = vec![[100.0, 10.0], [100.0, 25.0]];
+    let mut heading = std::f64::consts::FRAC_PI_2;
+    for c in &curvature[..curvature.len() - 1] {
+        heading += c * 15.0;
+        let [x, y] = points[points.len() - 1];
+        points.push([x + 15.0 * heading.cos(), y + 15.0 * heading.sin()]);
+    }
+    points
+}
+
+/// Writes a synthetic `wogan run` file of `tests`: the header of a random search on
+/// dave2-proxy at failure threshold `oob_tolerance`, a test record per test, and a summary.
+/// The records have the shape `wogan run` writes; the drives were never simulated.
+fn write_synthetic_run(path: &Path, oob_tolerance: f64, tests: &[SyntheticTest]) {
+    let header = json!({"type": "header", "version": "0.1.0", "seed": 1, "algorithm": "random",
+        "oracle": "dave2-proxy", "fitness": "distance", "config": {
+            "road": {"map_size_m": 200.0, "step_m": 15.0},
+            "sim": {"speed_limit_kmh": 30.0, "oob_tolerance": oob_tolerance}}});
+    let mut text = header.to_string() + "\n";
+    for (i, test) in tests.iter().enumerate() {
+        let (outcome, reason) = if test.failed {
+            ("FAIL", json!("out_of_lane"))
+        } else {
+            ("PASS", Value::Null)
+        };
+        let max_curv = test.curvature.iter().fold(0.0, |m: f64, c| m.max(c.abs()));
+        let record = json!({"type": "test", "id": i + 1, "phase": "random",
+            "fitness": test.max_bolp, "predicted_fitness": null, "invalid_candidates": 0,
+            "generation_ms": 0.5, "curvature": test.curvature,
+            "road_points": road_points(&test.curvature), "outcome": outcome, "reason": reason,
+            "max_bolp": test.max_bolp, "min_lane_distance_m": 1.0 - 2.0 * test.max_bolp,
+            "fitness_distance": test.max_bolp, "sim_time_s": 8.0, "execution_ms": 2.0,
+            "MAX_CURV": max_curv, "DIR_COV": 0.3, "STD_SA": 2.0, "MEAN_LP": 1.5, "MAX_LP": 2.0});
+        text += &record.to_string();
+        text.push('\n');
+    }
+    let failed = tests.iter().filter(|t| t.failed).count();
+    let summary = json!({"type": "summary", "executed": tests.len(), "failed": failed,
+        "invalid_candidates": 0, "wall_s": 1.0, "generation_s": 0.1, "training_s": 0.0,
+        "simulation_s": 0.5, "diversity": null, "diversity_pairs": "sampled",
+        "interrupted": false});
+    text += &summary.to_string();
+    text.push('\n');
+    std::fs::write(path, text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+}
+
+/// 10,000 failing tests of five random curvature values each (max BOLP just above the
+/// threshold 0.10), then 1,000 passing ones (below it).
+fn crowded_tests() -> Vec<SyntheticTest> {
+    let mut numbers = Numbers(0x9E37_79B9_7F4A_7C15);
+    (0..11_000)
+        .map(|i| {
+            let curvature = (0..5).map(|_| 0.12 * numbers.next() - 0.06).collect();
+            let failed = i < 10_000;
+            let max_bolp = if failed {
+                0.1 + 0.04 * numbers.next()
+            } else {
+                0.1 * numbers.next()
+            };
+            SyntheticTest {
+                curvature,
+                max_bolp,
+                failed,
+            }
+        })
+        .collect()
+}
+
+/// A copy of fixture `name` as `dir/file` whose header has `from` replaced by `to`.
+fn variant(dir: &Path, name: &str, file: &str, from: &str, to: &str) -> PathBuf {
+    let text = read(Path::new(&fixture(name)));
+    let (header, rest) = text.split_once('\n').expect("a header line");
+    assert!(header.contains(from), "{from} is not in {name}'s header");
+    let path = dir.join(file);
+    std::fs::write(&path, format!("{}\n{rest}", header.replace(from, to))).expect("write");
+    path
 }
 
 /// Reports the WOGAN fixture runs of seeds 3 and 4 into a fresh scratch directory `name`.
@@ -238,69 +514,6 @@ fn bad_usage_gives_status_2() {
 }
 
 #[test]
-fn export_writes_the_competition_layout_and_round_trips_through_validate() {
-    let out = scratch_dir("export");
-    wogan_ok(
-        &[
-            "export",
-            "--format",
-            "sbst",
-            &fixture("wogan.seed3.jsonl"),
-            path_str(&out),
-        ],
-        "",
-    );
-    let csv = read(&out.join("generation_stats.csv"));
-    let rows: Vec<&str> = csv.lines().collect();
-    assert_eq!(
-        rows[0],
-        "test_generated,test_valid,test_invalid,test_passed,test_failed,test_in_error,\
-         real_time_generation,real_time_execution,simulated_time_execution"
-    );
-    let row: Vec<&str> = rows[1].split(',').collect();
-    // The summary: 30 executed, 8 invalid candidates; 25 PASS, 5 FAIL.
-    assert_eq!(row[..6], ["38", "30", "8", "25", "5", "0"]);
-    assert!(
-        row[6..]
-            .iter()
-            .all(|v| v.parse::<f64>().is_ok_and(|s| s > 0.0)),
-        "{row:?}"
-    );
-
-    let mut objects = Vec::new();
-    for id in 1..=30 {
-        let text = read(&out.join(format!("test.{id:04}.json")));
-        let object: Value = serde_json::from_str(&text).expect("a test object");
-        assert_eq!(object["id"], id);
-        assert!(object.get("execution_data").is_none());
-        for key in [
-            "road_points",
-            "interpolated_points",
-            "validation_message",
-            "description",
-        ] {
-            assert!(object.get(key).is_some(), "{key} missing");
-        }
-        assert!(["PASS", "FAIL", "ERROR"].contains(&object["test_outcome"].as_str().unwrap_or("")));
-        for key in ["MAX_CURV", "DIR_COV", "STD_SA", "MEAN_LP", "MAX_LP"] {
-            assert!(object["features"][key].is_number(), "{key} missing");
-        }
-        objects.push(object);
-    }
-    assert!(!out.join("test.0031.json").exists());
-    let input: Vec<String> = objects.iter().map(Value::to_string).collect();
-    let output = wogan_ok(&["validate"], &input.join("\n"));
-    let verdicts: Vec<Value> = String::from_utf8_lossy(&output.stdout)
-        .lines()
-        .map(|l| serde_json::from_str(l).expect("a verdict"))
-        .collect();
-    assert_eq!(verdicts.len(), objects.len());
-    for (object, verdict) in objects.iter().zip(&verdicts) {
-        assert_eq!(verdict["valid"], object["is_valid"], "{object}");
-    }
-}
-
-#[test]
 fn trace_picture_draws_path_bolp_and_speed() {
     let out = scratch_dir("trace");
     let text = read(Path::new(&fixture("wogan.seed4.jsonl")));
@@ -331,30 +544,331 @@ fn trace_picture_draws_path_bolp_and_speed() {
     assert!(count_elements(&svg, "polyline") >= samples - 1 + 2);
     let picture = read(&svg);
     assert!(picture.contains("BOLP over time") && picture.contains("speed over time"));
+    assert_texts_inside(&svg);
 }
 
 #[test]
-fn export_of_a_truncated_run_sums_the_test_records() {
-    let out = scratch_dir("export-truncated");
-    let text = read(Path::new(&fixture("wogan.seed3.jsonl")));
-    let mut lines: Vec<&str> = text
-        .lines()
-        .filter(|l| !l.contains(r#""type":"summary""#))
-        .collect();
-    lines.push(r#"{"type":"test","id":"x"}"#);
-    let run = out.join("cut.jsonl");
-    std::fs::write(&run, lines.join("\n")).expect("write");
-    let dir = out.join("sbst");
-    let output = wogan(
-        &["export", "--format", "sbst", path_str(&run), path_str(&dir)],
+fn every_text_lies_inside_its_picture() {
+    // The labels of --vs groups are the longest titles (`A: wogan / ... / decay 0.95 / ...`).
+    let out = scratch_dir("inside");
+    wogan_ok(
+        &[
+            "report",
+            &fixture("wogan.seed3.jsonl"),
+            &fixture("wogan.seed4.jsonl"),
+            "--vs",
+            &fixture("random.seed4.jsonl"),
+            &fixture("random.seed5.jsonl"),
+            "--out",
+            path_str(&out),
+        ],
         "",
     );
-    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(assert_texts_inside_every_svg(&out), 8);
+    // A wrapped title keeps its words, on two lines.
+    let titles = texts(&out.join("bolp.g1.svg"));
+    assert!(
+        titles
+            .iter()
+            .any(|t| t.starts_with("max BOLP of every test (A: wogan /"))
+            && titles.iter().any(|t| t.ends_with("70.0 km/h)")),
+        "{titles:?}"
+    );
+}
+
+#[test]
+fn the_bolp_legend_covers_no_bar() {
+    // Seed 3 and 4's tallest bar is the first, under the legend in the upper left corner.
+    let out = report_of_seeds_3_and_4("legend");
+    let (bars, legend) = bars_and_legend(&out.join("bolp.g1.svg"));
+    let legend = legend.expect("a legend");
+    assert!(bars.len() > 2);
+    for bar in &bars {
+        let apart = bar[2] <= legend[0]
+            || legend[2] <= bar[0]
+            || bar[3] <= legend[1]
+            || legend[3] <= bar[1];
+        assert!(apart, "the legend {legend:?} covers the bar {bar:?}");
+    }
+}
+
+#[test]
+fn ten_thousand_failing_roads_make_small_readable_pictures() {
+    let out = scratch_dir("crowded");
+    let run = out.join("crowded.jsonl");
+    write_synthetic_run(&run, 0.1, &crowded_tests());
+    let report = |name: &str| {
+        let dir = out.join(name);
+        wogan_ok(&["report", path_str(&run), "--out", path_str(&dir)], "");
+        dir
+    };
+    let first = report("first");
+    let roads = first.join("roads.g1.svg");
+    let size = std::fs::metadata(&roads).expect("roads.g1.svg").len();
+    assert!(size < 2_000_000, "roads.g1.svg is {size} bytes");
+    assert_eq!(count_elements(&roads, "polygon"), 500);
+    let labels = texts(&roads);
+    assert!(
+        labels
+            .iter()
+            .any(|t| t.contains("500 of 10,000 roads drawn")),
+        "{labels:?}"
+    );
+    assert!(
+        !labels.iter().any(|t| t.starts_with('#')),
+        "roads labelled on a crowded map: {labels:?}"
+    );
+    // The sample is seeded: the same run gives the same picture.
+    let second = report("second");
+    assert!(
+        read(&roads) == read(&second.join("roads.g1.svg")),
+        "two reports of one run drew different roads"
+    );
+
+    // At threshold 0.10 the histogram's axis ends at 0.2, in bins of 0.01: the failing tests'
+    // 0.10 to 0.14 fill 4 bars, the passing ones' 0 to 0.10 another 10.
+    let bolp = first.join("bolp.g1.svg");
+    let (bars, legend) = bars_and_legend(&bolp);
+    assert_eq!(bars.len(), 14, "{bars:?}");
+    let ticks: Vec<f64> = texts(&bolp)
+        .iter()
+        .filter(|t| t.contains('.'))
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    let last = ticks.iter().copied().fold(0.0, f64::max);
+    assert!(last > 0.15 && last <= 0.2 + 1e-9, "x axis labels {ticks:?}");
+    let legend = legend.expect("a legend");
+    assert!(
+        bars.iter().all(|bar| bar[1] >= legend[3]),
+        "the legend {legend:?} covers a bar"
+    );
+    assert_eq!(assert_texts_inside_every_svg(&first), 3);
+}
+
+#[test]
+fn road_labels_do_not_pile_up() {
+    // Twenty failing roads that all end in one place.
+    let out = scratch_dir("labels");
+    let run = out.join("one-end.jsonl");
+    let tests: Vec<SyntheticTest> = (0..20)
+        .map(|_| SyntheticTest {
+            curvature: vec![0.03; 5],
+            max_bolp: 0.12,
+            failed: true,
+        })
+        .collect();
+    write_synthetic_run(&run, 0.1, &tests);
+    wogan_ok(&["report", path_str(&run), "--out", path_str(&out)], "");
+    let roads = out.join("roads.g1.svg");
+    let (_, boxes) = text_boxes(&roads);
+    let labels: Vec<&TextBox> = boxes.iter().filter(|b| b.text.starts_with('#')).collect();
+    assert!(labels.len() >= 5, "{labels:?}");
+    for (i, a) in labels.iter().enumerate() {
+        for b in &labels[i + 1..] {
+            assert!(!a.overlaps(b), "{a:?} overlaps {b:?}");
+        }
+    }
+    assert_texts_inside(&roads);
+}
+
+#[test]
+fn runs_of_other_drivers_tolerances_or_speed_limits_are_grouped_apart() {
+    let out = scratch_dir("conditions");
+    let seed4 = "wogan.seed4.jsonl";
+    let runs = [
+        PathBuf::from(fixture("wogan.seed3.jsonl")),
+        variant(
+            &out,
+            seed4,
+            "oob.jsonl",
+            r#""oob_tolerance":0.85"#,
+            r#""oob_tolerance":0.5"#,
+        ),
+        variant(
+            &out,
+            seed4,
+            "speed.jsonl",
+            r#""speed_limit_kmh":70.0"#,
+            r#""speed_limit_kmh":50.0"#,
+        ),
+        variant(
+            &out,
+            seed4,
+            "driver.jsonl",
+            r#""oracle":"beamng-ai-proxy""#,
+            r#""oracle":"dave2-proxy""#,
+        ),
+        // The same speed limit written as a whole number is the same condition.
+        variant(
+            &out,
+            seed4,
+            "whole.jsonl",
+            r#""speed_limit_kmh":70.0"#,
+            r#""speed_limit_kmh":70"#,
+        ),
+    ];
+    let mut args = vec!["report"];
+    args.extend(runs.iter().map(|p| path_str(p)));
+    args.extend(["--out", path_str(&out)]);
+    wogan_ok(&args, "");
+    let report = read(&out.join("report.md"));
+    assert!(report.contains("5 run(s) in 4 group(s)."), "{report}");
+    for label in [
+        "wogan / beamng-ai-proxy / fitness bolp / decay 0.95 / oob 0.85 / 70.0 km/h",
+        "wogan / beamng-ai-proxy / fitness bolp / decay 0.95 / oob 0.5 / 70.0 km/h",
+        "wogan / beamng-ai-proxy / fitness bolp / decay 0.95 / oob 0.85 / 50.0 km/h",
+        "wogan / dave2-proxy / fitness bolp / decay 0.95 / oob 0.85 / 70.0 km/h",
+    ] {
+        assert_eq!(
+            report.matches(&format!(": {label}\n")).count(),
+            1,
+            "{label}: {report}"
+        );
+    }
+    let group = report
+        .split("## Group ")
+        .find(|g| g.contains("oob 0.85 / 70.0 km/h") && g.contains("beamng"))
+        .expect("the seed-3 group");
+    assert!(
+        group.contains("wogan.seed3.jsonl") && group.contains("whole.jsonl"),
+        "{group}"
+    );
+}
+
+#[test]
+fn vs_refuses_a_group_that_mixes_conditions() {
+    let out = scratch_dir("vs-mixed");
+    let seed3 = fixture("wogan.seed3.jsonl");
+    let random4 = fixture("random.seed4.jsonl");
+    let random5 = fixture("random.seed5.jsonl");
+    let cases = [
+        (
+            "oob",
+            r#""oob_tolerance":0.85"#,
+            r#""oob_tolerance":0.5"#,
+            "oob 0.85",
+            "oob 0.5",
+        ),
+        (
+            "speed",
+            r#""speed_limit_kmh":70.0"#,
+            r#""speed_limit_kmh":50.0"#,
+            "70.0 km/h",
+            "50.0 km/h",
+        ),
+        (
+            "driver",
+            r#""oracle":"beamng-ai-proxy""#,
+            r#""oracle":"dave2-proxy""#,
+            "driver beamng-ai-proxy",
+            "driver dave2-proxy",
+        ),
+    ];
+    for (what, from, to, usual, odd_condition) in cases {
+        let odd = variant(
+            &out,
+            "wogan.seed4.jsonl",
+            &format!("{what}.jsonl"),
+            from,
+            to,
+        );
+        let report_dir = out.join(what);
+        // The odd run in group A beside seed 3, then in group B beside the random seed 4.
+        let in_a = [
+            seed3.as_str(),
+            path_str(&odd),
+            "--vs",
+            random4.as_str(),
+            random5.as_str(),
+        ];
+        let in_b = [seed3.as_str(), "--vs", random4.as_str(), path_str(&odd)];
+        for (group, runs, other) in [("A", &in_a[..], &seed3), ("B", &in_b[..], &random4)] {
+            let mut args = vec!["report"];
+            args.extend(runs);
+            args.extend(["--out", path_str(&report_dir)]);
+            let output = wogan(&args, "");
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            assert_eq!(output.status.code(), Some(2), "{what} in {group}: {stderr}");
+            let mixes = format!("group {group} mixes");
+            for needle in [
+                mixes.as_str(),
+                path_str(&odd),
+                other.as_str(),
+                usual,
+                odd_condition,
+            ] {
+                assert!(
+                    stderr.contains(needle),
+                    "{what} in {group}: no {needle}: {stderr}"
+                );
+            }
+            assert!(!report_dir.join("report.md").exists());
+        }
+    }
+}
+
+#[test]
+fn a_file_given_twice_counts_once() {
+    let out = scratch_dir("twice");
+    let seed3 = fixture("wogan.seed3.jsonl");
+    let seed4 = fixture("wogan.seed4.jsonl");
+    let random4 = fixture("random.seed4.jsonl");
+    // The same file under another spelling.
+    let again = format!("{}/../fixtures/wogan.seed3.jsonl", fixture(""));
+    let output = wogan_ok(
+        &["report", &seed3, &again, &seed4, "--out", path_str(&out)],
+        "",
+    );
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("cut.jsonl:40: bad test record"), "{stderr}");
-    let csv = read(&dir.join("generation_stats.csv"));
-    let row: Vec<&str> = csv.lines().nth(1).expect("a row").split(',').collect();
-    // Without a summary, the invalid candidates are summed over the test records (8).
-    assert_eq!(row[..6], ["38", "30", "8", "25", "5", "0"]);
-    assert!(dir.join("test.0030.json").exists());
+    assert!(
+        stderr.contains(&again) && stderr.contains("counts once"),
+        "{stderr}"
+    );
+    let report = read(&out.join("report.md"));
+    assert!(report.contains("2 run(s) in 1 group(s)."), "{report}");
+    assert!(
+        report.contains("| failures | 3.000 | 2.828 | 2 |"),
+        "{report}"
+    );
+
+    let output = wogan_ok(
+        &[
+            "report",
+            &seed3,
+            &seed4,
+            "--vs",
+            &random4,
+            &random4,
+            "--out",
+            path_str(&out),
+        ],
+        "",
+    );
+    assert!(String::from_utf8_lossy(&output.stderr).contains("counts once"));
+    let report = read(&out.join("report.md"));
+    assert!(
+        report.contains("| failures per run | 3.000 (2.828) n=2 | 2.000 (–) n=1 |"),
+        "{report}"
+    );
+
+    // A run cannot be on both sides of a comparison.
+    let output = wogan(
+        &[
+            "report",
+            &seed3,
+            &seed4,
+            "--vs",
+            &random4,
+            &again,
+            "--out",
+            path_str(&out),
+        ],
+        "",
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains(&again) && stderr.contains(&seed3) && stderr.contains("both sides"),
+        "{stderr}"
+    );
 }

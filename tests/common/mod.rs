@@ -23,13 +23,17 @@ pub fn wogan(args: &[&str], stdin: &str) -> Output {
         .stderr(Stdio::piped())
         .spawn()
         .expect("wogan starts");
-    child
-        .stdin
-        .take()
-        .expect("stdin is piped")
-        .write_all(stdin.as_bytes())
-        .expect("stdin is written");
-    child.wait_with_output().expect("wogan ends")
+    // Written from another thread: the commands answer as they read, so a large input written
+    // before any output is read would fill both pipes and deadlock.
+    let mut input = child.stdin.take().expect("stdin is piped");
+    let bytes = stdin.as_bytes().to_vec();
+    let writer = std::thread::spawn(move || {
+        // A command may end before reading all of it (bad usage): that is not the test's failure.
+        let _ = input.write_all(&bytes);
+    });
+    let output = child.wait_with_output().expect("wogan ends");
+    writer.join().expect("the input writer ends");
+    output
 }
 
 /// Runs `wogan ARGS` like [`wogan`] and asserts that it succeeded, showing its standard error if not.

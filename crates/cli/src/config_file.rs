@@ -8,11 +8,20 @@ use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::path::Path;
 
-/// Reads `path` as one JSON value and hands it to `T`'s deserializer.
+/// Reads `path` as one JSON value and hands it to `T`'s deserializer; an error names the field
+/// by its path (`search.wogan.bins`).
 pub fn read<T: DeserializeOwned>(path: &Path) -> Result<T> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read config file {}", path.display()))?;
-    serde_json::from_str(&text).with_context(|| format!("config file {}", path.display()))
+    let deserializer = &mut serde_json::Deserializer::from_str(&text);
+    serde_path_to_error::deserialize(deserializer).map_err(|error| {
+        anyhow::anyhow!(
+            "config file {}: {}: {}",
+            path.display(),
+            error.path(),
+            error.inner()
+        )
+    })
 }
 
 /// `defaults` with `patch` laid over them; `name` says where the patch came from in errors.
@@ -26,7 +35,8 @@ pub fn lay_over<T: Serialize + DeserializeOwned>(
     };
     let mut merged = serde_json::to_value(defaults).context("cannot encode the defaults")?;
     merge(&mut merged, patch);
-    serde_json::from_value(merged).with_context(|| format!("config file, {name}"))
+    serde_path_to_error::deserialize(merged)
+        .map_err(|error| anyhow::anyhow!("config file, {name}.{}: {}", error.path(), error.inner()))
 }
 
 /// Lays `patch` over `base`: objects merge key by key, anything else replaces.
@@ -73,7 +83,7 @@ mod tests {
     #[test]
     fn a_patch_changes_only_the_fields_it_names() {
         let patch = serde_json::json!({"inner": {"b": 5.0}});
-        let merged = lay_over(Some(&patch), defaults(), "\"test\"").unwrap();
+        let merged = lay_over(Some(&patch), defaults(), "test").unwrap();
         assert_eq!(merged.inner, Inner { a: 1.0, b: 5.0 });
         assert_eq!(merged.c, 3);
         assert_eq!(lay_over(None, defaults(), "none").unwrap(), defaults());
@@ -82,7 +92,14 @@ mod tests {
     #[test]
     fn an_unknown_field_is_named_in_the_error() {
         let patch = serde_json::json!({"inner": {"typo": 5.0}});
-        let err = lay_over(Some(&patch), defaults(), "\"test\"").unwrap_err();
+        let err = lay_over(Some(&patch), defaults(), "test").unwrap_err();
         assert!(format!("{err:#}").contains("typo"), "{err:#}");
+        // A value of the wrong type is named by its path, not only its section.
+        let patch = serde_json::json!({"inner": {"b": "five"}});
+        let err = lay_over(Some(&patch), defaults(), "test").unwrap_err();
+        assert!(
+            format!("{err:#}").contains("test.inner.b: invalid type"),
+            "{err:#}"
+        );
     }
 }

@@ -1,7 +1,7 @@
 //! Options that choose and configure the driver under test, shared by `simulate` and `run`.
 
 use crate::config_file;
-use crate::value_parsers::{driver_kind, positive_kmh, positive_metres, share};
+use crate::value_parsers::{driver_kind, map_size_m, positive_kmh, share};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::driver::{BeamNgAiParams, Dave2DriverParams};
@@ -27,7 +27,7 @@ pub struct DriverOptions {
     #[arg(long, value_parser = share, allow_negative_numbers = true)]
     pub oob_tolerance: Option<f64>,
     /// Side of the square map, metres.
-    #[arg(long, default_value_t = 200.0, value_parser = positive_metres, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 200.0, value_parser = map_size_m, allow_negative_numbers = true)]
     pub map_size: f64,
 }
 
@@ -39,13 +39,13 @@ impl DriverOptions {
         let mut driver = DriverConfig::default_for(self.oracle);
         match &mut driver {
             DriverConfig::BeamNgAiProxy(params) => {
-                *params = config_file::lay_over::<BeamNgAiParams>(patch, *params, "\"driver\"")?;
+                *params = config_file::lay_over::<BeamNgAiParams>(patch, *params, "driver")?;
             }
             DriverConfig::Dave2Proxy {
                 params,
                 weights: built_in,
             } => {
-                *params = config_file::lay_over::<Dave2DriverParams>(patch, *params, "\"driver\"")?;
+                *params = config_file::lay_over::<Dave2DriverParams>(patch, *params, "driver")?;
                 if let Some(weights) = weights {
                     *built_in = weights;
                 }

@@ -3,17 +3,18 @@
 //! written.
 
 use crate::records::{Header, Record};
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 
 /// Opens `path` for reading line by line; `None` or `-` is standard input.
-pub fn open_input(path: Option<&Path>) -> Result<Box<dyn BufRead>> {
+pub fn open_input(path: Option<&Path>) -> Result<Box<dyn BufRead + Send>> {
     match path {
         None => Ok(Box::new(BufReader::new(io::stdin()))),
         Some(p) if p == Path::new("-") => Ok(Box::new(BufReader::new(io::stdin()))),
+        Some(p) if p.is_dir() => bail!("cannot read input file {}: it is a directory", p.display()),
         Some(p) => {
             let file =
                 File::open(p).with_context(|| format!("cannot open input file {}", p.display()))?;
@@ -31,7 +32,9 @@ pub struct InputLine {
 }
 
 /// Iterates over the non-blank lines of `input`, numbering every line.
-pub fn numbered_lines(mut input: Box<dyn BufRead>) -> impl Iterator<Item = io::Result<InputLine>> {
+pub fn numbered_lines(
+    mut input: Box<dyn BufRead + Send>,
+) -> impl Iterator<Item = io::Result<InputLine>> {
     let mut number = 0;
     let mut buffer = Vec::new();
     std::iter::from_fn(move || loop {

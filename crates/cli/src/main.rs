@@ -9,6 +9,7 @@
 mod commands;
 mod config_file;
 mod driver_options;
+mod interrupt;
 mod json_lines;
 mod plan;
 mod records;
@@ -76,11 +77,22 @@ fn main() -> ExitCode {
         Ok(Status::AllRead) => ExitCode::from(EXIT_OK),
         Ok(Status::SomeLinesBad | Status::Failed) => ExitCode::from(EXIT_BAD_LINES),
         Ok(Status::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
+        // The reader went away (`wogan run | head -1`): what it wanted was written.
+        Err(error) if is_broken_pipe(&error) => ExitCode::from(EXIT_OK),
         Err(error) => {
             eprintln!("wogan: {error:#}");
             ExitCode::from(EXIT_USAGE)
         }
     }
+}
+
+/// Whether `error` comes from writing to a pipe whose reader has closed it.
+fn is_broken_pipe(error: &anyhow::Error) -> bool {
+    error.chain().any(|cause| {
+        cause
+            .downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }
 
 /// How a command ended when it did not fail outright.

@@ -26,41 +26,41 @@ pub struct RunArgs {
     #[command(flatten)]
     pub driver: DriverOptions,
     /// Wall-clock budget of the whole run, e.g. 30s, 10m, 3h.
-    #[arg(long, value_parser = humantime::parse_duration)]
+    #[arg(long, value_parser = humantime::parse_duration, allow_hyphen_values = true)]
     pub budget: Option<Duration>,
     /// Most tests to execute [default: 300 when there is no --budget].
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..), allow_negative_numbers = true)]
     pub max_tests: Option<u64>,
     /// Seed of every random choice.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub seed: u64,
     /// Write the JSON lines to FILE instead of standard output.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Tests simulated at once where they are independent (the random phase).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
     pub jobs: u32,
     /// What the search maximises: bolp, bolp-scaled or distance [default: bolp for
     /// beamng-ai-proxy, distance for dave2-proxy].
     #[arg(long, value_parser = fitness_kind)]
     pub fitness: Option<FitnessKind>,
     /// Curvature values per road (the road has one point more).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(2..=499))]
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(2..=499), allow_negative_numbers = true)]
     pub curvature_points: u32,
     /// Distance between road points, metres.
-    #[arg(long, default_value_t = 15.0, value_parser = crate::value_parsers::positive_metres)]
+    #[arg(long, default_value_t = 15.0, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
     pub step_length: f64,
     /// Share of the budget spent on the initial random search [default: 0.2].
-    #[arg(long, value_parser = fraction)]
+    #[arg(long, value_parser = fraction, allow_negative_numbers = true)]
     pub init_fraction: Option<f64>,
     /// Share of WOGAN's candidates that are mutants of the best tests so far, ranked by the
     /// analyzer with the generator's (not in the paper; 0 is the paper's WOGAN) [default: 0].
-    #[arg(long, value_parser = share)]
+    #[arg(long, value_parser = share, allow_negative_numbers = true)]
     pub mutation_share: Option<f64>,
     /// Factor applied to WOGAN's acceptance target per valid candidate: closer to 1 ranks more
     /// candidates per test [default: the paper's 0.95 with the BOLP fitnesses; with `--fitness
     /// distance` the decay matched to BOLP's at the tolerance, 0.9816 at DAVE-2's 0.10].
-    #[arg(long, value_parser = fraction)]
+    #[arg(long, value_parser = fraction, allow_negative_numbers = true)]
     pub target_decay: Option<f64>,
     /// JSON file overriding the defaults: `{"search": {...}, "sim": {...}, "driver": {...}}`
     /// (the header's `config.search`, `config.sim` and `config.driver` show every field). Options
@@ -167,6 +167,16 @@ impl ConfigFile {
 impl RunPlan {
     /// Resolves `args` (and the config file it names) into a plan, or names what is wrong.
     pub fn resolve(args: &RunArgs) -> Result<Self> {
+        if let Some(out) = &args.out {
+            let inputs = [&args.config, &args.driver.driver_weights];
+            if let Some(input) = inputs.into_iter().flatten().find(|i| same_file(out, i)) {
+                bail!(
+                    "--out {} is an input of the run ({}); write the run elsewhere",
+                    out.display(),
+                    input.display()
+                );
+            }
+        }
         let oracle = args.driver.oracle;
         let preset = oracle.preset();
         let mut file = match &args.config {
@@ -177,7 +187,7 @@ impl RunPlan {
         let sim = args.driver.apply_to(config_file::lay_over(
             file.sim.as_ref(),
             preset.sim_config(),
-            "\"sim\"",
+            "sim",
         )?);
         let driver = args.driver.driver_config(file.driver.as_ref())?;
         let fitness = args.fitness.unwrap_or(preset.fitness);
@@ -189,7 +199,7 @@ impl RunPlan {
                 AlgorithmArg::Random => Algorithm::Random,
             },
             jobs: args.jobs as usize,
-            ..config_file::lay_over(file.search.as_ref(), search_defaults, "\"search\"")?
+            ..config_file::lay_over(file.search.as_ref(), search_defaults, "search")?
         };
         if let Some(init_fraction) = args.init_fraction {
             search.wogan.init_fraction = init_fraction;
@@ -257,6 +267,14 @@ impl RunPlan {
             fitness: self.fitness,
             config: &self.settings,
         }
+    }
+}
+
+/// Whether `a` and `b` name the same existing file.
+fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
     }
 }
 

@@ -1,62 +1,95 @@
-//! The loop shared by the commands that answer one record per input road: read numbered lines,
-//! parse each as a road, answer the roads (in parallel when asked), and write the answers in input
-//! order, each flushed as soon as its chunk is done.
+//! The loop shared by the commands that answer one record per input road (`validate`,
+//! `simulate`): read numbered lines, parse each as a road, answer it, and write the answer as soon
+//! as it is known, in input order.
+//!
+//! Answers stream: a line is answered as soon as it has been read, so another program can keep
+//! one `wogan simulate` as a child and feed it one road at a time. With `--jobs N`, the lines
+//! already read (up to N) are answered in parallel. A reader thread reads ahead, so the loop can
+//! notice Ctrl-C or SIGTERM while waiting for input; then it writes what it has answered and ends.
+//! A JSON value spread over several lines (a pretty-printed competition test) is read as one
+//! input, answered under the number of its first line.
 
 use crate::json_lines::{numbered_lines, InputLine, JsonLinesWriter};
 use crate::records::{ErrorRecord, Record};
 use crate::Status;
 use anyhow::Result;
+use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use road_sim::road::input::{parse_line, RoadInput};
-use std::io::BufRead;
+use std::io::{BufRead, IsTerminal};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError};
+use std::time::Duration;
 
-/// Roads answered together before their answers are written: large enough to keep every thread
-/// busy, small enough that results stream.
-const CHUNK_LINES: usize = 256;
+/// Most physical lines one JSON value may span before it is answered as an error.
+const MAX_LINES_PER_VALUE: usize = 10_000;
+/// Most bytes one JSON value may span across lines.
+const MAX_BYTES_PER_VALUE: usize = 16 << 20;
+/// How often the loop looks at the stop flag while it waits for input (not a result's timing).
+const STOP_POLL: Duration = Duration::from_millis(50);
 
-/// Answers every road of `input` with `answer(line_number, road)`; a line that holds no road gets
-/// an `error` record and makes the status [`Status::SomeLinesBad`].
+/// What answering one input produced.
+pub enum Answer {
+    /// Write this record.
+    Record(Box<Record>),
+    /// The line was cut short by a stop: write nothing for it.
+    Dropped,
+}
+
+/// Answers every road of `input` with `answer(line_number, road)`, `jobs` at a time; a line that
+/// holds no road gets an `error` record and makes the status [`Status::SomeLinesBad`]. Ends early,
+/// with [`Status::Interrupted`], once `stop` is set.
 pub fn answer_each_road<F>(
-    input: Box<dyn BufRead>,
+    input: Box<dyn BufRead + Send>,
     out: &mut JsonLinesWriter,
     map_size_m: f64,
-    pool: Option<&rayon::ThreadPool>,
+    jobs: usize,
+    stop: &AtomicBool,
     answer: F,
 ) -> Result<Status>
 where
-    F: Fn(usize, &RoadInput) -> Record + Sync,
+    F: Fn(usize, &RoadInput) -> Answer + Sync,
 {
+    let pool = thread_pool(jobs)?;
+    let lines = read_ahead(input, jobs.max(1) * 2);
+    let progress = Progress::new();
     let mut status = Status::AllRead;
-    let mut lines = numbered_lines(input).peekable();
-    // Each line is parsed, answered and encoded by the worker that takes it; only reading and
-    // writing stay on this thread.
-    let run_one = |line: &InputLine| -> Option<Result<Vec<u8>, String>> {
+    let run_one = |line: &InputLine| -> Option<Result<Answer, String>> {
         let text = match &line.text {
             Ok(text) => text,
             Err(error) => return Some(Err(error.clone())),
         };
         match parse_line(text, map_size_m) {
             Ok(RoadInput::Skip) => None,
-            Ok(road) => Some(
-                serde_json::to_vec(&answer(line.number, &road))
-                    .map_err(|e| format!("cannot encode the answer: {e}")),
-            ),
+            Ok(road) => Some(Ok(answer(line.number, &road))),
             Err(error) => Some(Err(error.to_string())),
         }
     };
-    while lines.peek().is_some() {
-        let chunk = lines
-            .by_ref()
-            .take(CHUNK_LINES)
-            .collect::<Result<Vec<InputLine>, _>>()?;
-        let answers: Vec<Option<Result<Vec<u8>, String>>> = match pool {
+    loop {
+        if stop.load(Ordering::SeqCst) {
+            return Ok(Status::Interrupted);
+        }
+        // Wait for one line, then take the others already read, up to one per job.
+        let mut chunk = match lines.recv_timeout(STOP_POLL) {
+            Ok(line) => vec![line?],
+            Err(RecvTimeoutError::Timeout) => continue,
+            Err(RecvTimeoutError::Disconnected) => break,
+        };
+        while chunk.len() < jobs.max(1) {
+            match lines.try_recv() {
+                Ok(line) => chunk.push(line?),
+                Err(_) => break,
+            }
+        }
+        let answers: Vec<Option<Result<Answer, String>>> = match &pool {
             Some(pool) => pool.install(|| chunk.par_iter().map(run_one).collect()),
             None => chunk.iter().map(run_one).collect(),
         };
         for (line, answer) in chunk.iter().zip(answers) {
             match answer {
                 None => {}
-                Some(Ok(encoded)) => out.write_encoded(encoded)?,
+                Some(Ok(Answer::Record(record))) => out.write(&record)?,
+                Some(Ok(Answer::Dropped)) => return Ok(Status::Interrupted),
                 Some(Err(error)) => {
                     status = Status::SomeLinesBad;
                     out.write(&Record::Error(ErrorRecord {
@@ -65,9 +98,81 @@ where
                     }))?;
                 }
             }
+            progress.answered();
         }
     }
-    Ok(status)
+    progress.finish();
+    Ok(if stop.load(Ordering::SeqCst) {
+        Status::Interrupted
+    } else {
+        status
+    })
+}
+
+/// Reads `input` on its own thread, joining a JSON value spread over several lines, at most
+/// `ahead` inputs ahead of the answers.
+fn read_ahead(
+    input: Box<dyn BufRead + Send>,
+    ahead: usize,
+) -> Receiver<std::io::Result<InputLine>> {
+    let (sender, receiver) = sync_channel(ahead);
+    std::thread::spawn(move || {
+        let mut lines = numbered_lines(input);
+        while let Some(line) = lines.next() {
+            let line = line.and_then(|first| join_continued(first, &mut lines));
+            let failed = line.is_err();
+            // The receiver is gone when the command ended (a stop): nothing left to do.
+            if sender.send(line).is_err() || failed {
+                return;
+            }
+        }
+    });
+    receiver
+}
+
+/// `first` and, when it opens a JSON value that it does not close, the lines that complete it
+/// (within [`MAX_LINES_PER_VALUE`] and [`MAX_BYTES_PER_VALUE`]).
+fn join_continued(
+    first: InputLine,
+    rest: &mut impl Iterator<Item = std::io::Result<InputLine>>,
+) -> std::io::Result<InputLine> {
+    let Ok(text) = &first.text else {
+        return Ok(first);
+    };
+    if !opens_unfinished_value(text) {
+        return Ok(first);
+    }
+    let mut joined = text.clone();
+    for _ in 1..MAX_LINES_PER_VALUE {
+        let Some(next) = rest.next() else { break };
+        match next?.text {
+            Ok(more) => {
+                joined.push('\n');
+                joined.push_str(&more);
+            }
+            Err(error) => {
+                return Ok(InputLine {
+                    number: first.number,
+                    text: Err(error),
+                })
+            }
+        }
+        if joined.len() > MAX_BYTES_PER_VALUE || !opens_unfinished_value(&joined) {
+            break;
+        }
+    }
+    Ok(InputLine {
+        number: first.number,
+        text: Ok(joined),
+    })
+}
+
+/// Whether `text` is the start of a JSON value that more lines could complete.
+fn opens_unfinished_value(text: &str) -> bool {
+    matches!(
+        serde_json::from_str::<serde_json::Value>(text),
+        Err(error) if error.is_eof()
+    )
 }
 
 /// A thread pool of `jobs` threads, or `None` for one job (answers on this thread).
@@ -77,4 +182,66 @@ pub fn thread_pool(jobs: usize) -> Result<Option<rayon::ThreadPool>> {
     }
     let pool = rayon::ThreadPoolBuilder::new().num_threads(jobs).build()?;
     Ok(Some(pool))
+}
+
+/// A count of answered lines on stderr, shown only on a terminal.
+struct Progress {
+    bar: Option<ProgressBar>,
+}
+
+impl Progress {
+    fn new() -> Self {
+        if !std::io::stderr().is_terminal() {
+            return Self { bar: None };
+        }
+        let bar = ProgressBar::new_spinner();
+        bar.set_style(
+            ProgressStyle::with_template("{elapsed_precise} {pos} lines answered")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        Self { bar: Some(bar) }
+    }
+
+    fn answered(&self) {
+        if let Some(bar) = &self.bar {
+            bar.inc(1);
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lines(text: &str) -> Vec<(usize, String)> {
+        let input: Box<dyn BufRead + Send> = Box::new(std::io::Cursor::new(text.to_owned()));
+        let receiver = read_ahead(input, 4);
+        receiver
+            .iter()
+            .map(|line| {
+                let line = line.unwrap();
+                (line.number, line.text.unwrap())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_value_spread_over_lines_is_one_input() {
+        let text = "{\n  \"road_points\": [\n    [1, 2],\n    [3, 4]\n  ]\n}\n[[5, 6], [7, 8]]\n";
+        let read = lines(text);
+        assert_eq!(read.len(), 2, "{read:?}");
+        assert_eq!(read[0].0, 1);
+        assert!(serde_json::from_str::<serde_json::Value>(&read[0].1).is_ok());
+        assert_eq!(read[1], (7, "[[5, 6], [7, 8]]".to_owned()));
+        // A line that is not JSON at all is not joined with the next.
+        assert_eq!(lines("nope\n[[1, 2]]\n").len(), 2);
+        // An unfinished value at the end of the input is given as it is.
+        assert_eq!(lines("{\"road_points\": [\n").len(), 1);
+    }
 }

@@ -5,11 +5,14 @@
 
 use crate::records::RoadExecution;
 use road_sim::road::curvature::MAX_CURVATURE_PER_M;
-use road_sim::{simulate, CurvatureRoad, DriverConfig, FitnessKind, Road, SimConfig, Validator};
+use road_sim::{
+    simulate, CurvatureRoad, DriverConfig, FitnessKind, Road, SimConfig, StopReason, Validator,
+};
+use std::sync::atomic::AtomicBool;
 use wogan_core::{Execution, Sut};
 
 /// Roads from curvature vectors, judged by one driver.
-pub struct RoadSut {
+pub struct RoadSut<'a> {
     /// How curvature values become road points.
     pub roads: CurvatureRoad,
     /// Number of curvature values per test.
@@ -22,9 +25,11 @@ pub struct RoadSut {
     pub sim: SimConfig,
     /// What the search maximises.
     pub fitness: FitnessKind,
+    /// Set by Ctrl-C or SIGTERM: a drive in progress is cut short and not reported.
+    pub stop: &'a AtomicBool,
 }
 
-impl RoadSut {
+impl RoadSut<'_> {
     /// Curvature values (1/m) of a normalised test vector.
     pub fn curvature(&self, test: &[f32]) -> Vec<f64> {
         test.iter()
@@ -33,7 +38,7 @@ impl RoadSut {
     }
 }
 
-impl Sut for RoadSut {
+impl Sut for RoadSut<'_> {
     type Output = RoadExecution;
 
     fn dim(&self) -> usize {
@@ -46,13 +51,17 @@ impl Sut for RoadSut {
             .is_valid()
     }
 
-    fn execute(&self, test: &[f32]) -> Execution<RoadExecution> {
+    fn execute(&self, test: &[f32]) -> Option<Execution<RoadExecution>> {
         let curvature = self.curvature(test);
         let road_points = self.roads.points(&curvature);
         // The search only executes valid tests, whose points always interpolate.
         let road = Road::new(&road_points).expect("a valid road interpolates");
-        let result = simulate(&road, self.driver.build().as_mut(), &self.sim, false);
-        Execution {
+        let mut driver = self.driver.build();
+        let result = simulate(&road, driver.as_mut(), &self.sim, false, Some(self.stop));
+        if result.reason == Some(StopReason::Interrupted) {
+            return None;
+        }
+        Some(Execution {
             fitness: self.fitness.of(&result, &self.sim),
             output: RoadExecution {
                 curvature,
@@ -60,6 +69,6 @@ impl Sut for RoadSut {
                 interpolated: road.interpolated,
                 result,
             },
-        }
+        })
     }
 }

@@ -1,24 +1,41 @@
 //! Parsers of option values shared by the commands: each accepts exactly the values the setting
 //! can take and names the expected range in its error.
 
+use road_sim::validator::{MAX_MAP_SIZE_M, MAX_ROAD_LENGTH_M};
 use road_sim::{DriverKind, FitnessKind};
 
-/// A strictly positive, finite length in metres.
-pub fn positive_metres(text: &str) -> Result<f64, String> {
+/// A map side in metres: above 0 and at most [`MAX_MAP_SIZE_M`] (which bounds a road's length,
+/// and so the work of one road).
+pub fn map_size_m(text: &str) -> Result<f64, String> {
+    within(text, "metres", MAX_MAP_SIZE_M)
+}
+
+/// A distance between road points in metres: above 0 and at most 1000.
+pub fn step_length_m(text: &str) -> Result<f64, String> {
+    within(text, "metres", 1000.0)
+}
+
+/// A number above 0 and at most `max`.
+fn within(text: &str, unit: &str, max: f64) -> Result<f64, String> {
     match text.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Ok(v) if v > 0.0 && v <= max => Ok(v),
         _ => Err(format!(
-            "expected a positive number of metres, got {text:?}"
+            "expected a number of {unit} above 0 and at most {max}, got {text:?}"
         )),
     }
 }
 
 /// A speed in km/h, above 0 and at most 300.
 pub fn positive_kmh(text: &str) -> Result<f64, String> {
+    within(text, "km/h", 300.0)
+}
+
+/// A distance along a road in metres, from 0 to [`MAX_ROAD_LENGTH_M`].
+pub fn distance_along_m(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 && v <= 300.0 => Ok(v),
+        Ok(v) if (0.0..=MAX_ROAD_LENGTH_M).contains(&v) => Ok(v),
         _ => Err(format!(
-            "expected a speed in km/h between 0 and 300, got {text:?}"
+            "expected a distance along the road in metres, from 0 to {MAX_ROAD_LENGTH_M}, got {text:?}"
         )),
     }
 }
@@ -63,9 +80,16 @@ mod tests {
 
     #[test]
     fn ranges_are_enforced() {
-        assert_eq!(positive_metres("15"), Ok(15.0));
-        assert!(positive_metres("0").is_err() && positive_metres("inf").is_err());
+        assert_eq!(map_size_m("200"), Ok(200.0));
+        assert!(map_size_m("0").is_err() && map_size_m("inf").is_err());
+        assert!(map_size_m("NaN").is_err() && map_size_m("2001").is_err());
+        assert!(step_length_m("1e300").is_err() && step_length_m("15").is_ok());
         assert!(positive_kmh("301").is_err() && positive_kmh("25").is_ok());
+        assert!(positive_kmh("0")
+            .unwrap_err()
+            .contains("above 0 and at most 300"));
+        assert!(distance_along_m("NaN").is_err() && distance_along_m("-5").is_err());
+        assert!(distance_along_m("2.5").is_ok());
         assert!(share("0").is_ok() && share("1").is_ok() && share("1.5").is_err());
         assert!(fraction("0").is_err() && fraction("0.2").is_ok());
         assert_eq!(driver_kind("dave2-proxy"), Ok(DriverKind::Dave2Proxy));

@@ -21,7 +21,9 @@ use crate::dave2_model::Dave2Trainer;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha20Rng;
 use road_sim::driver::{BeamNgAiParams, BeamNgAiProxy, Driver, Observation};
-use road_sim::settings::{all_non_negative, all_positive, first_problem, positive, SettingsError};
+use road_sim::settings::{
+    all_non_negative, all_positive, all_within, first_problem, positive, SettingsError,
+};
 use road_sim::sim::{simulate, Command, SimConfig, VehicleParams};
 use road_sim::vision::{
     Camera, CameraParams, Dave2Net, Dave2Weights, Frame, RoadScene, FRAME_PIXELS,
@@ -92,8 +94,16 @@ impl CloningConfig {
     pub fn validate(&self) -> Result<(), SettingsError> {
         let (shortest, longest) = self.noise_hold_s;
         first_problem(&[
-            (self.training_roads >= 1, "training_roads", "at least 1"),
-            (self.validation_roads >= 1, "validation_roads", "at least 1"),
+            (
+                (1..=100_000).contains(&self.training_roads),
+                "training_roads",
+                "from 1 to 100000",
+            ),
+            (
+                (1..=100_000).contains(&self.validation_roads),
+                "validation_roads",
+                "from 1 to 100000",
+            ),
             // Beyond these, valid random roads become too rare to collect.
             (
                 (2..=10).contains(&self.curvature_points),
@@ -110,18 +120,26 @@ impl CloningConfig {
                 "noise_hold_s",
                 "two positive times, the shorter first",
             ),
-            (self.epochs >= 1, "epochs", "at least 1"),
-            (self.batch_size >= 1, "batch_size", "at least 1"),
+            (
+                (1..=1000).contains(&self.epochs),
+                "epochs",
+                "from 1 to 1000",
+            ),
+            (
+                (1..=4096).contains(&self.batch_size),
+                "batch_size",
+                "from 1 to 4096",
+            ),
         ])?;
-        all_positive(
+        all_within(
             "",
             &[
-                ("speed_kmh", self.speed_kmh),
-                ("record_hz", self.record_hz),
-                ("learning_rate", self.learning_rate),
-                ("time_limit_s", self.time_limit_s),
+                ("speed_kmh", self.speed_kmh, 0.1, 300.0),
+                ("record_hz", self.record_hz, 0.1, 100.0),
+                ("learning_rate", self.learning_rate, 1e-9, 1.0),
             ],
         )?;
+        all_positive("", &[("time_limit_s", self.time_limit_s)])?;
         all_non_negative("", &[("noise_max_rad", self.noise_max_rad)])?;
         self.teacher.validate().map_err(|problem| {
             // The teacher's settings sit under `teacher` in a training config.
@@ -316,7 +334,7 @@ pub fn record(
             noise_until_s: 0.0,
             data: &mut data,
         };
-        simulate(road, &mut driver, &sim, false);
+        simulate(road, &mut driver, &sim, false, None);
         on_road(i + 1, data.len());
     }
     data
@@ -341,7 +359,7 @@ fn rmse_deg(
 pub fn train(
     config: &CloningConfig,
     on_progress: &mut dyn FnMut(CloningProgress),
-) -> (Dave2Weights, CloningReport) {
+) -> Result<(Dave2Weights, CloningReport), Diverged> {
     let started = Instant::now();
     let mut rng = ChaCha20Rng::seed_from_u64(config.seed);
     let all_roads = config.training_roads + config.validation_roads;
@@ -404,6 +422,12 @@ pub fn train(
             batches += 1;
         }
         let loss = loss_sum / batches.max(1) as f64;
+        if !loss.is_finite() {
+            return Err(Diverged {
+                epoch: epoch + 1,
+                loss,
+            });
+        }
         epoch_losses.push(loss);
         let mut net = Dave2Net::new(&trainer.weights());
         student_rmse_deg = rmse_deg(&validation, max_steering_rad, |i| {
@@ -428,7 +452,17 @@ pub fn train(
         untrained_rmse_deg,
         seconds: started.elapsed().as_secs_f64(),
     };
-    (trainer.weights(), report)
+    Ok((trainer.weights(), report))
+}
+
+/// Training stopped because an epoch's loss was not finite: the weights are no longer numbers.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("training diverged in epoch {epoch} (mean loss {loss}); lower the learning rate")]
+pub struct Diverged {
+    /// The epoch, from 1.
+    pub epoch: usize,
+    /// Its mean loss.
+    pub loss: f64,
 }
 
 #[cfg(test)]
@@ -464,11 +498,11 @@ mod tests {
 
     #[test]
     fn a_few_steps_of_training_lower_the_loss_and_follow_the_seed() {
-        let (weights, report) = train(&tiny(), &mut |_| {});
+        let (weights, report) = train(&tiny(), &mut |_| {}).unwrap();
         let losses = &report.epoch_losses;
         assert_eq!(losses.len(), 3);
         assert!(losses[2] < losses[0], "loss did not fall: {losses:?}");
-        let (again, _) = train(&tiny(), &mut |_| {});
+        let (again, _) = train(&tiny(), &mut |_| {}).unwrap();
         assert_eq!(weights.to_bytes(), again.to_bytes());
     }
 }

@@ -5,5 +5,5 @@
 pub mod behaviour_cloning;
 pub mod dave2_model;
 
-pub use behaviour_cloning::{train, CloningConfig, CloningProgress, CloningReport};
+pub use behaviour_cloning::{train, CloningConfig, CloningProgress, CloningReport, Diverged};
 pub use dave2_model::{predict_burn, Dave2, Dave2Trainer};

@@ -14,6 +14,7 @@ pub fn simulate_kind(road: &Road, kind: DriverKind, config: &SimConfig, trace: b
         DriverConfig::default_for(kind).build().as_mut(),
         config,
         trace,
+        None,
     )
 }
 

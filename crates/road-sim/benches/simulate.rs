@@ -1,7 +1,7 @@
 //! Calibration figures and speed of the simulator on the 300 random WOGAN roads of
 //! `tests/reference/roads.jsonl` (70 km/h, oob tolerance 0.85, `beamng-ai-proxy`).
 //!
-//! `cargo bench --release -p road-sim --bench simulate` first prints the calibration figures
+//! `cargo bench -p road-sim --bench simulate` first prints the calibration figures
 //! (failure rate, max BOLP and fitness deciles, the share of max BOLP below 0.05, local continuity,
 //! simulated seconds per wall second), then measures the wall time per road on one core.
 //!

@@ -17,7 +17,8 @@
 //! let road = Road::new(&[[100.0, 10.0], [100.0, 60.0], [100.0, 110.0]]).unwrap();
 //! let kind = DriverKind::BeamNgAiProxy;
 //! let driver = DriverConfig::default_for(kind);
-//! let result = simulate(&road, driver.build().as_mut(), &kind.preset().sim_config(), false);
+//! let sim = kind.preset().sim_config();
+//! let result = simulate(&road, driver.build().as_mut(), &sim, false, None);
 //! assert_eq!(result.outcome, Outcome::Pass);
 //! ```
 

@@ -40,6 +40,21 @@ pub fn all_non_negative(prefix: &str, values: &[(&str, f64)]) -> Result<(), Sett
     each(prefix, values, non_negative, "finite and not negative")
 }
 
+/// `Ok` when every `(name, value, min, max)` has `min <= value <= max`, else names the first that
+/// has not, with its range: "`prefix``name` must be from `min` to `max`".
+pub fn all_within(prefix: &str, values: &[(&str, f64, f64, f64)]) -> Result<(), SettingsError> {
+    match values
+        .iter()
+        .find(|(_, value, min, max)| !(value >= min && value <= max))
+    {
+        Some((name, value, min, max)) => Err(SettingsError::new(
+            format!("{prefix}{name}"),
+            format!("from {min} to {max} (got {value})"),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Names the first value `holds` is false of, with the `requirement` it failed.
 fn each(
     prefix: &str,

@@ -1,6 +1,6 @@
 //! One WOGAN iteration (a training round plus choosing one test; no simulation) at growing data
 //! sizes, on a cheap synthetic SUT. Run single-threaded for one-core figures:
-//! `RAYON_NUM_THREADS=1 cargo bench --release -p wogan-core --bench iteration`.
+//! `RAYON_NUM_THREADS=1 cargo bench -p wogan-core --bench iteration`.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -21,12 +21,12 @@ impl Sut for Synthetic {
     fn is_valid(&self, t: &[f32]) -> bool {
         t.iter().sum::<f32>() <= 2.0
     }
-    fn execute(&self, t: &[f32]) -> Execution<()> {
+    fn execute(&self, t: &[f32]) -> Option<Execution<()>> {
         let d2: f32 = t.iter().map(|v| (v - 0.4).powi(2)).sum();
-        Execution {
+        Some(Execution {
             fitness: f64::from((-d2).exp()),
             output: (),
-        }
+        })
     }
 }
 
@@ -42,7 +42,7 @@ fn iteration(c: &mut Criterion) {
         let mut model = WoganModel::new(sut.dim(), &WoganConfig::default(), &mut rng);
         for _ in 0..n {
             let t = sampler.sample(&mut rng);
-            let f = sut.execute(&t).fitness;
+            let f = sut.execute(&t).expect("not stopped").fitness;
             model.add(&t, f);
         }
         // The first round is longer (3 x 20 analyzer epochs); iterations are later rounds.

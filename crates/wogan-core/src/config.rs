@@ -255,88 +255,137 @@ impl Default for WganConfig {
     }
 }
 
-fn check(ok: bool, what: &str) -> Result<(), Error> {
-    if ok {
+/// Upper bounds of the settings whose size sets a run's time and memory, chosen so that one
+/// training round stays bounded (`cargo bench -p wogan-core --bench corners` measures the most
+/// expensive round accepted): networks at most 4x the paper's width, batches at most the
+/// analyzer's (16x the WGAN's), epochs and critic steps at most 1-10x the paper's.
+pub mod limits {
+    /// Widest hidden layer of any network.
+    pub const MAX_HIDDEN: usize = 512;
+    /// Largest generator noise dimension.
+    pub const MAX_NOISE_DIM: usize = 256;
+    /// Largest batch of any kind (training rows, candidates, noise).
+    pub const MAX_BATCH: usize = 512;
+    /// Most epochs or critic steps in one training round.
+    pub const MAX_EPOCHS: usize = 20;
+    /// Most fitness bins.
+    pub const MAX_BINS: usize = 1000;
+    /// Most random draws per valid test, or invalid candidates in a row.
+    pub const MAX_ATTEMPTS: usize = 10_000_000;
+    /// Most worker threads.
+    pub const MAX_JOBS: usize = 256;
+}
+
+/// Names `field` and its range unless `value` lies in `[min, max]`.
+fn check_count(value: usize, field: &str, min: usize, max: usize) -> Result<(), Error> {
+    if (min..=max).contains(&value) {
         Ok(())
     } else {
-        Err(Error::Config(what.to_string()))
+        Err(Error::Config(format!(
+            "{field} must be from {min} to {max}, got {value}"
+        )))
     }
 }
 
-/// Names `field` unless `value` is a share or probability, in `[0, 1]`.
-fn check_unit_interval(value: f64, field: &str) -> Result<(), Error> {
-    check(
-        (0.0..=1.0).contains(&value),
-        &format!("{field} must be in [0, 1]"),
-    )
+/// Names `field` and its range unless `value` lies in `[min, max]` (NaN never does).
+fn check_real(value: f64, field: &str, min: f64, max: f64) -> Result<(), Error> {
+    if value >= min && value <= max {
+        Ok(())
+    } else {
+        Err(Error::Config(format!(
+            "{field} must be from {min} to {max}, got {value}"
+        )))
+    }
 }
 
-/// Names `field` unless `value` is finite and not negative.
-fn check_non_negative(value: f32, field: &str) -> Result<(), Error> {
-    check(
-        value.is_finite() && value >= 0.0,
-        &format!("{field} must be finite and non-negative"),
-    )
+/// Names `field` unless `value` lies in `(0, max]`.
+fn check_positive(value: f64, field: &str, max: f64) -> Result<(), Error> {
+    if value > 0.0 && value <= max {
+        Ok(())
+    } else {
+        Err(Error::Config(format!(
+            "{field} must be above 0 and at most {max}, got {value}"
+        )))
+    }
 }
 
 impl RunConfig {
-    /// Rejects values the algorithms cannot work with.
+    /// Rejects values the algorithms cannot work with, or that would make one iteration's time
+    /// or memory unbounded; the error names the field and its range.
     pub fn validate(&self) -> Result<(), Error> {
-        check(self.jobs >= 1, "jobs must be at least 1")?;
+        use limits::*;
+        check_count(self.jobs, "jobs", 1, MAX_JOBS)?;
         let s = &self.sampler;
-        check_non_negative(s.max_step, "sampler.max_step")?;
-        check(
-            s.max_attempts >= 1,
-            "sampler.max_attempts must be at least 1",
-        )?;
+        check_real(f64::from(s.max_step), "sampler.max_step", 0.0, 2.0)?;
+        check_count(s.max_attempts, "sampler.max_attempts", 1, MAX_ATTEMPTS)?;
         let w = &self.wogan;
-        check_unit_interval(w.init_fraction, "wogan.init_fraction")?;
-        check(w.bins >= 1, "wogan.bins must be at least 1")?;
-        check(w.batch_size >= 1, "wogan.batch_size must be at least 1")?;
-        check(w.alpha_max.is_finite(), "wogan.alpha_max must be finite")?;
-        check(w.train_every >= 1, "wogan.train_every must be at least 1")?;
-        check(
-            w.candidate_batch >= 1,
-            "wogan.candidate_batch must be at least 1",
+        check_real(w.init_fraction, "wogan.init_fraction", 0.0, 1.0)?;
+        check_count(w.bins, "wogan.bins", 1, MAX_BINS)?;
+        check_count(w.batch_size, "wogan.batch_size", 1, MAX_BATCH)?;
+        check_count(w.newest_in_batch, "wogan.newest_in_batch", 0, w.batch_size)?;
+        check_real(w.alpha_max, "wogan.alpha_max", -100.0, 100.0)?;
+        check_count(w.train_every, "wogan.train_every", 1, MAX_ATTEMPTS)?;
+        for (value, field) in [
+            (w.first_epochs, "wogan.first_epochs"),
+            (w.first_analyzer_epochs, "wogan.first_analyzer_epochs"),
+            (w.later_epochs, "wogan.later_epochs"),
+            (w.later_analyzer_epochs, "wogan.later_analyzer_epochs"),
+        ] {
+            check_count(value, field, 0, MAX_EPOCHS)?;
+        }
+        check_count(w.candidate_batch, "wogan.candidate_batch", 1, MAX_BATCH)?;
+        if !(w.target_decay > 0.0 && w.target_decay < 1.0) {
+            return Err(Error::Config(format!(
+                "wogan.target_decay must be in (0, 1), got {}",
+                w.target_decay
+            )));
+        }
+        check_count(
+            w.max_invalid_streak,
+            "wogan.max_invalid_streak",
+            1,
+            MAX_ATTEMPTS,
         )?;
-        check(
-            w.target_decay > 0.0 && w.target_decay < 1.0,
-            "wogan.target_decay must be in (0, 1)",
+        check_count(
+            w.generator.noise_dim,
+            "wogan.generator.noise_dim",
+            1,
+            MAX_NOISE_DIM,
         )?;
-        check(
-            w.max_invalid_streak >= 1,
-            "wogan.max_invalid_streak must be at least 1",
-        )?;
-        check(
-            w.generator.noise_dim >= 1 && w.generator.hidden >= 1,
-            "wogan.generator sizes must be at least 1",
-        )?;
-        check(
-            w.critic.hidden >= 1,
-            "wogan.critic.hidden must be at least 1",
-        )?;
-        check(
-            w.critic.leaky_slope.is_finite(),
-            "wogan.critic.leaky_slope must be finite",
-        )?;
-        check(
-            w.analyzer.hidden >= 1 && w.analyzer.max_batch >= 1,
-            "wogan.analyzer sizes must be at least 1",
-        )?;
-        check(
-            w.analyzer.lr > 0.0 && w.wgan.lr > 0.0,
-            "learning rates must be positive",
-        )?;
-        check(
-            w.wgan.critic_steps >= 1 && w.wgan.noise_batch >= 2,
-            "wogan.wgan.critic_steps must be >= 1 and noise_batch >= 2 (batch normalisation)",
-        )?;
+        check_count(w.generator.hidden, "wogan.generator.hidden", 1, MAX_HIDDEN)?;
+        check_count(w.critic.hidden, "wogan.critic.hidden", 1, MAX_HIDDEN)?;
+        check_real(w.critic.leaky_slope, "wogan.critic.leaky_slope", 0.0, 1.0)?;
+        let a = &w.analyzer;
+        check_count(a.hidden, "wogan.analyzer.hidden", 1, MAX_HIDDEN)?;
+        check_count(a.max_batch, "wogan.analyzer.max_batch", 1, MAX_BATCH)?;
+        check_positive(a.lr, "wogan.analyzer.lr", 1.0)?;
+        check_real(f64::from(a.beta1), "wogan.analyzer.beta1", 0.0, 0.999)?;
+        check_real(f64::from(a.beta2), "wogan.analyzer.beta2", 0.0, 0.999_999)?;
+        check_real(a.l2, "wogan.analyzer.l2", 0.0, 1.0)?;
+        let g = &w.wgan;
+        check_positive(g.lr, "wogan.wgan.lr", 1.0)?;
+        check_real(f64::from(g.beta1), "wogan.wgan.beta1", 0.0, 0.999)?;
+        check_real(f64::from(g.beta2), "wogan.wgan.beta2", 0.0, 0.999_999)?;
+        check_real(g.gp_coef, "wogan.wgan.gp_coef", 0.0, 1e6)?;
+        check_count(g.critic_steps, "wogan.wgan.critic_steps", 1, MAX_EPOCHS)?;
+        // Batch normalisation needs two rows.
+        check_count(g.noise_batch, "wogan.wgan.noise_batch", 2, MAX_BATCH)?;
         let m = &w.mutation;
-        check_unit_interval(m.share, "wogan.mutation.share")?;
-        check(m.parents >= 1, "wogan.mutation.parents must be at least 1")?;
-        check_non_negative(m.min_parent_distance, "wogan.mutation.min_parent_distance")?;
-        check_non_negative(m.max_step, "wogan.mutation.max_step")?;
-        check_unit_interval(m.reshape_probability, "wogan.mutation.reshape_probability")?;
+        check_real(m.share, "wogan.mutation.share", 0.0, 1.0)?;
+        check_count(m.parents, "wogan.mutation.parents", 1, MAX_BATCH)?;
+        check_real(
+            f64::from(m.min_parent_distance),
+            "wogan.mutation.min_parent_distance",
+            0.0,
+            100.0,
+        )?;
+        check_real(f64::from(m.max_step), "wogan.mutation.max_step", 0.0, 2.0)?;
+        check_real(
+            m.reshape_probability,
+            "wogan.mutation.reshape_probability",
+            0.0,
+            1.0,
+        )?;
         Ok(())
     }
 }

@@ -12,6 +12,10 @@ pub enum Error {
         /// How many samples were tried.
         attempts: usize,
     },
+    /// A search for a valid test was given up because the run is being stopped (a signal or an
+    /// expired budget); the run ends normally.
+    #[error("stopped while searching for a valid test")]
+    Interrupted,
     /// The worker thread pool for `jobs > 1` could not be built.
     #[error("could not start {jobs} worker threads: {message}")]
     ThreadPool {
@@ -19,6 +23,12 @@ pub enum Error {
         jobs: usize,
         /// The pool builder's message.
         message: String,
+    },
+    /// Training produced a non-finite loss (a learning rate too large for the data, say).
+    #[error("training diverged (a non-finite loss) after {tests} tests; lower the learning rates")]
+    Diverged {
+        /// Tests the diverging round learnt from.
+        tests: usize,
     },
     /// A tensor could not be read back (should not happen on the CPU backend).
     #[error("tensor read-back failed: {0}")]

@@ -22,8 +22,8 @@
 //!     type Output = ();
 //!     fn dim(&self) -> usize { 3 }
 //!     fn is_valid(&self, t: &[f32]) -> bool { t[0] <= 0.5 }
-//!     fn execute(&self, t: &[f32]) -> Execution<()> {
-//!         Execution { fitness: f64::from((t[1] + 1.0) / 2.0), output: () }
+//!     fn execute(&self, t: &[f32]) -> Option<Execution<()>> {
+//!         Some(Execution { fitness: f64::from((t[1] + 1.0) / 2.0), output: () })
 //!     }
 //! }
 //!
@@ -118,8 +118,8 @@ mod stgem_parity;
 pub use bins::{biased_batch, bin_of, bin_weights, BatchDraws, RngDraws};
 pub use budget::Budget;
 pub use config::{
-    Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, RunConfig, SamplerConfig, WganConfig,
-    WoganConfig,
+    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, RunConfig, SamplerConfig,
+    WganConfig, WoganConfig,
 };
 pub use error::Error;
 pub use mutation::MutationConfig;

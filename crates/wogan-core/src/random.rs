@@ -46,7 +46,7 @@ pub(crate) fn execute_all<S: Sut + ?Sized>(
     sut: &S,
     tests: &[Sampled],
     pool: Option<&ThreadPool>,
-) -> Vec<Execution<S::Output>> {
+) -> Vec<Option<Execution<S::Output>>> {
     match pool {
         Some(pool) if tests.len() > 1 => {
             pool.install(|| tests.par_iter().map(|s| sut.execute(&s.test)).collect())

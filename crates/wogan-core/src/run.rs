@@ -171,11 +171,15 @@ pub fn run<S: Sut + ?Sized>(
         None
     };
     let mut rng = ChaCha20Rng::seed_from_u64(seed);
-    let sampler = Sampler::new(dim, config.sampler.clone());
+    let budget = budget.effective();
+    let start = Instant::now();
+    // A long search for a valid test looks at the stop flag and the clock now and then.
+    let go_on = || !stop.load(Ordering::Relaxed) && budget.wall.is_none_or(|w| start.elapsed() < w);
+    let sampler = Sampler::new(dim, config.sampler.clone()).interruptible(&go_on);
     let mut r = Runner {
-        budget: budget.effective(),
+        budget,
         stop,
-        start: Instant::now(),
+        start,
         summary: Summary::default(),
     };
     let w = &config.wogan;
@@ -199,11 +203,18 @@ pub fn run<S: Sut + ?Sized>(
                 count = count.min(init.saturating_sub(done)).max(1);
             }
         }
-        let sampled = sample_tests(sut, &sampler, &mut rng, count)?;
+        let sampled = match sample_tests(sut, &sampler, &mut rng, count) {
+            Ok(sampled) => sampled,
+            // The loop's next check says why it ends.
+            Err(Error::Interrupted) => continue,
+            Err(error) => return Err(error),
+        };
         let t0 = Instant::now();
         let results = execute_all(sut, &sampled, pool.as_ref());
         r.summary.simulation_s += t0.elapsed().as_secs_f64();
         for (s, e) in sampled.into_iter().zip(results) {
+            // Cut short by a stop: the loop's next check ends the run.
+            let Some(e) = e else { continue };
             let fitness = clamp_fitness(e.fitness);
             r.summary.executed += 1;
             r.summary.invalid_candidates += s.invalid;
@@ -254,17 +265,37 @@ pub fn run<S: Sut + ?Sized>(
                     train_ms: train_s * 1e3,
                     tests: model.len(),
                 });
+                let losses = [
+                    stats.analyzer_loss,
+                    stats.critic_loss,
+                    stats.generator_loss,
+                    stats.wasserstein_estimate,
+                ];
+                if losses.iter().any(|loss| !loss.is_finite()) {
+                    // The networks' weights are no longer numbers: every later proposal would be
+                    // noise presented as WOGAN's.
+                    return Err(Error::Diverged { tests: model.len() });
+                }
                 // Training can be long: honour a stop or an expired clock before proposing.
                 if r.should_stop() {
                     break;
                 }
             }
             let t0 = Instant::now();
-            let p = model.propose(sut, &sampler, &mut rng)?;
+            let p = match model.propose(sut, &sampler, &mut rng) {
+                Ok(p) => p,
+                Err(Error::Interrupted) => continue,
+                Err(error) => return Err(error),
+            };
             let generation_s = t0.elapsed().as_secs_f64();
             let t1 = Instant::now();
             let e = sut.execute(&p.test);
             r.summary.simulation_s += t1.elapsed().as_secs_f64();
+            let Some(e) = e else {
+                // Cut short by a stop: nothing to report, the run ends.
+                r.summary.stopped_by_signal = true;
+                break;
+            };
             let fitness = clamp_fitness(e.fitness);
             model.add(&p.test, fitness);
             since_train += 1;
@@ -308,13 +339,13 @@ mod tests {
         fn is_valid(&self, t: &[f32]) -> bool {
             t.iter().sum::<f32>() <= 2.8
         }
-        fn execute(&self, t: &[f32]) -> Execution<f32> {
+        fn execute(&self, t: &[f32]) -> Option<Execution<f32>> {
             assert!(self.is_valid(t), "an invalid test was executed");
             let d2: f32 = t.iter().zip(CENTRE).map(|(a, b)| (a - b).powi(2)).sum();
-            Execution {
+            Some(Execution {
                 fitness: f64::from((-d2 / 0.5).exp()),
                 output: d2,
-            }
+            })
         }
     }
 
@@ -435,11 +466,11 @@ mod tests {
         fn is_valid(&self, _: &[f32]) -> bool {
             true
         }
-        fn execute(&self, t: &[f32]) -> Execution<()> {
-            Execution {
+        fn execute(&self, t: &[f32]) -> Option<Execution<()>> {
+            Some(Execution {
                 fitness: f64::from(t[0]) * 2.0, // partly outside [0, 1]: clamped
                 output: (),
-            }
+            })
         }
     }
 
@@ -532,5 +563,63 @@ mod tests {
         assert!(s.executed > 0);
         assert!(!s.stopped_by_signal);
         assert!(s.wall_s < 5.0);
+    }
+
+    /// A SUT whose `n`-th execution is cut short by a stop raised during it.
+    struct StoppedAt<'a> {
+        n: usize,
+        calls: std::sync::atomic::AtomicUsize,
+        stop: &'a AtomicBool,
+    }
+
+    impl Sut for StoppedAt<'_> {
+        type Output = usize;
+        fn dim(&self) -> usize {
+            2
+        }
+        fn is_valid(&self, _: &[f32]) -> bool {
+            true
+        }
+        fn execute(&self, _: &[f32]) -> Option<Execution<usize>> {
+            let call = self.calls.fetch_add(1, Ordering::SeqCst) + 1;
+            if call == self.n {
+                self.stop.store(true, Ordering::SeqCst);
+                return None;
+            }
+            Some(Execution {
+                fitness: 0.5,
+                output: call,
+            })
+        }
+    }
+
+    #[test]
+    fn an_execution_cut_short_by_a_stop_is_not_reported() {
+        for (algorithm, n) in [(Algorithm::Random, 4), (Algorithm::Wogan, 70)] {
+            let stop = AtomicBool::new(false);
+            let sut = StoppedAt {
+                n,
+                calls: Default::default(),
+                stop: &stop,
+            };
+            let config = RunConfig {
+                algorithm,
+                ..RunConfig::default()
+            };
+            let budget = Budget {
+                max_tests: Some(300),
+                wall: None,
+            };
+            let mut outputs = Vec::new();
+            let summary = run(&sut, &config, budget, 1, &stop, &mut |e| {
+                if let Event::Test { output, .. } = e {
+                    outputs.push(output);
+                }
+            })
+            .unwrap();
+            assert_eq!(outputs, (1..n).collect::<Vec<_>>(), "{algorithm:?}");
+            assert_eq!(summary.executed, n - 1);
+            assert!(summary.stopped_by_signal);
+        }
     }
 }

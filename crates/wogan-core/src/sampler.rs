@@ -10,17 +10,49 @@ use crate::config::SamplerConfig;
 use crate::error::Error;
 use crate::sut::Sut;
 
+/// Validity checks between two looks at [`Sampler::should_go_on`]: a search for a valid test
+/// can take millions of them, and a stop or an expired budget must end it.
+const CHECKS_BETWEEN_LOOKS: usize = 1024;
+
 /// Draws random test vectors, optionally until one is valid.
-#[derive(Debug, Clone)]
-pub struct Sampler {
+#[derive(Clone)]
+pub struct Sampler<'a> {
     dim: usize,
     config: SamplerConfig,
+    go_on: Option<&'a (dyn Fn() -> bool + Sync)>,
 }
 
-impl Sampler {
+impl std::fmt::Debug for Sampler<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Sampler")
+            .field("dim", &self.dim)
+            .field("config", &self.config)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a> Sampler<'a> {
     /// A sampler of `dim`-long vectors.
     pub fn new(dim: usize, config: SamplerConfig) -> Self {
-        Self { dim, config }
+        Self {
+            dim,
+            config,
+            go_on: None,
+        }
+    }
+
+    /// The same sampler, giving up a search for valid tests (with [`Error::Interrupted`]) once
+    /// `go_on` says no; `go_on` is asked every [`CHECKS_BETWEEN_LOOKS`] validity checks.
+    pub fn interruptible(self, go_on: &'a (dyn Fn() -> bool + Sync)) -> Self {
+        Self {
+            go_on: Some(go_on),
+            ..self
+        }
+    }
+
+    /// Whether a search may go on (always, unless made [`Sampler::interruptible`]).
+    pub fn should_go_on(&self) -> bool {
+        self.go_on.is_none_or(|go_on| go_on())
     }
 
     /// One random walk, valid or not.
@@ -52,7 +84,10 @@ impl Sampler {
         rng: &mut R,
         invalid: &mut usize,
     ) -> Result<Vec<f32>, Error> {
-        for _ in 0..self.config.max_attempts {
+        for attempt in 0..self.config.max_attempts {
+            if attempt % CHECKS_BETWEEN_LOOKS == CHECKS_BETWEEN_LOOKS - 1 && !self.should_go_on() {
+                return Err(Error::Interrupted);
+            }
             let t = self.sample(rng);
             if sut.is_valid(&t) {
                 return Ok(t);
@@ -100,7 +135,7 @@ mod tests {
         fn is_valid(&self, _: &[f32]) -> bool {
             false
         }
-        fn execute(&self, _: &[f32]) -> crate::Execution<()> {
+        fn execute(&self, _: &[f32]) -> Option<crate::Execution<()>> {
             unreachable!()
         }
     }

@@ -20,8 +20,10 @@ pub trait Sut: Sync {
     fn dim(&self) -> usize;
     /// Whether a test may be executed; invalid tests are never executed.
     fn is_valid(&self, test: &[f32]) -> bool;
-    /// Executes a valid test.
-    fn execute(&self, test: &[f32]) -> Execution<Self::Output>;
+    /// Executes a valid test; `None` when the execution was cut short because the run is being
+    /// stopped (the run's `stop` flag, which the SUT may watch), so that no half-done result is
+    /// reported as a test.
+    fn execute(&self, test: &[f32]) -> Option<Execution<Self::Output>>;
 }
 
 /// Clamps a reported fitness into `[0, 1]`; NaN becomes 0 so it can never look like a failure.

@@ -221,6 +221,9 @@ impl WoganModel {
         let mut invalid = 0usize;
         let mut streak = 0usize;
         loop {
+            if !sampler.should_go_on() {
+                return Err(Error::Interrupted);
+            }
             let noise = uniform_noise(rng, batch, noise_dim, &self.plain);
             let generated = generator.forward(noise);
             let mut cands = values(generated.clone())?;
@@ -312,11 +315,11 @@ mod tests {
         fn is_valid(&self, t: &[f32]) -> bool {
             t[0] <= -0.9
         }
-        fn execute(&self, _: &[f32]) -> Execution<()> {
-            Execution {
+        fn execute(&self, _: &[f32]) -> Option<Execution<()>> {
+            Some(Execution {
                 fitness: 0.5,
                 output: (),
-            }
+            })
         }
     }
 
@@ -389,11 +392,11 @@ mod tests {
         fn is_valid(&self, _: &[f32]) -> bool {
             true
         }
-        fn execute(&self, _: &[f32]) -> Execution<()> {
-            Execution {
+        fn execute(&self, _: &[f32]) -> Option<Execution<()>> {
+            Some(Execution {
                 fitness: 0.0,
                 output: (),
-            }
+            })
         }
     }
 

@@ -17,7 +17,7 @@ pub struct CameraArgs {
     /// Standard input when absent or `-`.
     pub file: Option<PathBuf>,
     /// Distances along the road, metres, at which the car stands on the right-lane centre.
-    #[arg(long, value_delimiter = ',', default_value = "2.5")]
+    #[arg(long, value_delimiter = ',', default_value = "2.5", allow_negative_numbers = true, value_parser = crate::value_parsers::distance_along_m)]
     pub at: Vec<f64>,
     /// Where to write the pictures: `DIR/camera.<metres>.png`.
     #[arg(long, value_name = "DIR")]
@@ -26,7 +26,7 @@ pub struct CameraArgs {
     #[arg(long)]
     pub gray: bool,
     /// Side of the square map, metres.
-    #[arg(long, default_value_t = 200.0, value_parser = crate::value_parsers::positive_metres)]
+    #[arg(long, default_value_t = 200.0, value_parser = crate::value_parsers::map_size_m, allow_negative_numbers = true)]
     pub map_size: f64,
 }
 
@@ -61,6 +61,12 @@ pub fn run(args: &CameraArgs) -> Result<Status> {
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let camera = Camera::new(CameraParams::default());
     let scene = RoadScene::new(&road);
+    if let Some(beyond) = args.at.iter().find(|&&at| at > road.length_m()) {
+        bail!(
+            "--at {beyond}: the road is only {:.1} m long",
+            road.length_m()
+        );
+    }
     for &distance_m in &args.at {
         let (position, heading_rad) = start_pose(&road, distance_m);
         let frame = if args.gray {

@@ -10,10 +10,12 @@ use std::path::PathBuf;
 /// Options of `wogan report`.
 #[derive(Debug, Args)]
 pub struct ReportArgs {
-    /// JSON lines of `wogan run` (repetitions, possibly of several configurations).
+    /// JSON lines of `wogan run` (repetitions, possibly of several configurations; a file given
+    /// twice counts once).
     #[arg(value_name = "RUN")]
     pub runs: Vec<PathBuf>,
-    /// Compare the RUN files (group A) with these runs (group B), with Mann–Whitney U tests.
+    /// Compare the RUN files (group A) with these runs (group B), with Mann–Whitney U tests
+    /// (each group must be of one driver, oob tolerance and speed limit).
     #[arg(long, num_args = 1.., value_name = "RUN")]
     pub vs: Vec<PathBuf>,
     /// Draw one `wogan simulate --trace` file instead of reporting runs.

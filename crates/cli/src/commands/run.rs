@@ -1,30 +1,25 @@
 //! `wogan run`: search for roads that push the driver out of its lane, streaming one JSON line per
 //! executed test, per training round, and a final summary.
 
+use crate::interrupt::stop_flag;
 use crate::json_lines::JsonLinesWriter;
 use crate::plan::{RunArgs, RunPlan};
 use crate::records::{Record, SummaryRecord, TestRecord, TrainRecord};
 use crate::road_sut::RoadSut;
 use crate::Status;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use road_sim::road::heading_profile::heading_profile;
 use road_sim::Validator;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use wogan_core::diversity::median_pairwise_distance;
 use wogan_core::{Budget, Event, Summary};
 
 /// Runs `wogan run`.
 pub fn run(args: &RunArgs) -> Result<Status> {
     let plan = RunPlan::resolve(args)?;
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
-            .context("cannot install the Ctrl-C handler")?;
-    }
+    let stop = stop_flag()?;
     execute(&plan, &stop)
 }
 
@@ -40,6 +35,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
         driver: settings.driver.clone(),
         sim: settings.sim,
         fitness: plan.fitness,
+        stop,
     };
     let progress = Progress::new(&plan.budget, plan.quiet);
     let mut failing_profiles: Vec<Vec<f64>> = Vec::new();

@@ -1,13 +1,14 @@
 //! `wogan simulate`: drive the chosen driver along every road of the input.
 
 use crate::driver_options::DriverOptions;
+use crate::interrupt::stop_flag;
 use crate::json_lines::{open_input, JsonLinesWriter};
 use crate::records::{InvalidOutcome, Record, ResultRecord, TraceRecord};
-use crate::road_lines::{answer_each_road, thread_pool};
+use crate::road_lines::{answer_each_road, Answer};
 use crate::Status;
 use anyhow::{Context, Result};
 use clap::Args;
-use road_sim::{simulate, Reason, Road, Sample, Validator};
+use road_sim::{simulate, Reason, Road, Sample, StopReason, Validator};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -19,7 +20,7 @@ pub struct SimulateArgs {
     #[command(flatten)]
     pub driver: DriverOptions,
     /// Roads simulated at once (output keeps the input order).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
     pub jobs: u32,
     /// Write DIR/trace.N.jsonl for input line N: the road, then one sample per oracle step.
     #[arg(long, value_name = "DIR")]
@@ -28,6 +29,7 @@ pub struct SimulateArgs {
 
 /// Runs `wogan simulate`.
 pub fn run(args: &SimulateArgs) -> Result<Status> {
+    let stop = stop_flag()?;
     let input = open_input(args.file.as_deref())?;
     if let Some(dir) = &args.trace {
         std::fs::create_dir_all(dir)
@@ -37,12 +39,13 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
     let validator = Validator::new(args.driver.map_size);
     let config = args.driver.sim_config();
     let driver = args.driver.driver_config(None)?;
-    let pool = thread_pool(args.jobs as usize)?;
+    config.validate().context("invalid simulation settings")?;
     answer_each_road(
         input,
         &mut out,
         args.driver.map_size,
-        pool.as_ref(),
+        args.jobs as usize,
+        &stop,
         |line, road| {
             let verdict = validator.validate(road.points().unwrap_or_default());
             match (verdict.reason, verdict.road) {
@@ -52,22 +55,29 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
                         driver.build().as_mut(),
                         &config,
                         args.trace.is_some(),
+                        Some(&stop),
                     );
+                    if result.reason == Some(StopReason::Interrupted) {
+                        return Answer::Dropped;
+                    }
                     if let (Some(dir), Some(samples)) = (&args.trace, result.trace.take()) {
                         if let Err(error) = write_trace(dir, line, &road, &samples) {
                             eprintln!("wogan: line {line}: {error:#}");
                         }
                     }
-                    Record::Result(ResultRecord::Driven { line, result })
+                    Answer::Record(Box::new(Record::Result(ResultRecord::Driven {
+                        line,
+                        result,
+                    })))
                 }
                 (reason, _) => {
                     let reason = reason.unwrap_or(Reason::Malformed);
-                    Record::Result(ResultRecord::Invalid {
+                    Answer::Record(Box::new(Record::Result(ResultRecord::Invalid {
                         line,
                         outcome: InvalidOutcome::Invalid,
                         reason,
                         message: reason.message().to_owned(),
-                    })
+                    })))
                 }
             }
         },

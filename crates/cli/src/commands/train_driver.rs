@@ -14,25 +14,25 @@ use std::path::PathBuf;
 pub struct TrainDriverArgs {
     /// Seed of every random choice: the same seed gives the same weights (the built-in ones are
     /// seed 1 with the defaults) [default: 1].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub seed: Option<u64>,
     /// Where to write the weights (load them with `--driver-weights FILE`).
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
     /// Random roads driven for training frames (validation roads: a sixth as many)
     /// [default: 120].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub roads: Option<usize>,
     /// Largest curvature of the training roads, 1/m (the search's roads go up to 0.07)
     /// [default: 0.03].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub max_curvature: Option<f64>,
     /// Passes over the training frames [default: 4].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub epochs: Option<usize>,
     /// Wall-clock limit of the whole training, minutes (no epoch starts that would end later)
     /// [default: 28].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub minutes: Option<f64>,
     /// JSON file overriding the training defaults, e.g. `{"noise_max_rad": 0.1, "teacher":
     /// {"lookahead_base_m": 3.0}}` (the output line's `config` shows every field). Options given
@@ -91,7 +91,7 @@ pub fn run(args: &TrainDriverArgs) -> Result<Status> {
         } => {
             eprintln!("epoch {epoch}/{of}: training loss {loss:.5}, validation error {validation_rmse_deg:.3} deg, {seconds:.0} s");
         }
-    });
+    })?;
     std::fs::write(&args.out, weights.to_bytes())
         .with_context(|| format!("cannot write {}", args.out.display()))?;
     JsonLinesWriter::create(None)?.write(&Record::Driver(DriverRecord {

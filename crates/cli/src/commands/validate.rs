@@ -1,9 +1,10 @@
 //! `wogan validate`: the competition's verdict for every road of the input.
 
+use crate::interrupt::stop_flag;
 use crate::json_lines::{open_input, JsonLinesWriter};
 use crate::records::{Record, VerdictRecord};
-use crate::road_lines::answer_each_road;
-use crate::value_parsers::positive_metres;
+use crate::road_lines::{answer_each_road, Answer};
+use crate::value_parsers::map_size_m;
 use crate::Status;
 use anyhow::Result;
 use clap::Args;
@@ -17,7 +18,7 @@ pub struct ValidateArgs {
     /// or `[[x, y], ...]`. Standard input when absent or `-`.
     pub file: Option<PathBuf>,
     /// Side of the square map, metres.
-    #[arg(long, default_value_t = 200.0, value_parser = positive_metres, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 200.0, value_parser = map_size_m, allow_negative_numbers = true)]
     pub map_size: f64,
     /// Add the interpolated centre line to each verdict.
     #[arg(long)]
@@ -26,12 +27,13 @@ pub struct ValidateArgs {
 
 /// Runs `wogan validate`.
 pub fn run(args: &ValidateArgs) -> Result<Status> {
+    let stop = stop_flag()?;
     let input = open_input(args.file.as_deref())?;
     let mut out = JsonLinesWriter::create(None)?;
     let validator = Validator::new(args.map_size);
-    answer_each_road(input, &mut out, args.map_size, None, |line, road| {
+    answer_each_road(input, &mut out, args.map_size, 1, &stop, |line, road| {
         let verdict = validator.validate(road.points().unwrap_or_default());
-        Record::Verdict(VerdictRecord {
+        Answer::Record(Box::new(Record::Verdict(VerdictRecord {
             line,
             valid: verdict.is_valid(),
             reason: verdict.reason,
@@ -41,6 +43,6 @@ pub fn run(args: &ValidateArgs) -> Result<Status> {
             } else {
                 None
             },
-        })
+        })))
     })
 }

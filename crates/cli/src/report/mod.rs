@@ -1,6 +1,10 @@
 //! Reports on runs: reading run files, the figures of a group of runs, the statistics that
 //! compare two groups (Mann–Whitney U), the SVG pictures and the Markdown that holds them; and the
 //! picture of one simulation trace.
+//!
+//! A group is a sample of one condition: without `--vs` runs are grouped by their configuration
+//! ([`RunKey`]); with `--vs` each of the two groups given must be of one driver, failure
+//! threshold and speed limit, and a file given twice counts once.
 
 mod group;
 mod markdown;
@@ -11,20 +15,23 @@ mod trace_plot;
 
 use crate::records::known;
 use crate::Status;
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use group::GroupFigures;
 use markdown::{GroupSection, Pictures};
 use plots::{bolp_histogram_svg, fitness_svg, roads_svg, MapRoad};
 use run_file::{read_run, RunFile, RunKey};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use trace_plot::{read_trace, trace_svg};
 
 /// Writes `out/report.md` and its pictures for the runs of `a_paths`: grouped by configuration,
 /// or, when `b_paths` is not empty, as two groups compared with Mann–Whitney U tests.
 pub fn runs_report(a_paths: &[PathBuf], b_paths: &[PathBuf], out: &Path) -> Result<Status> {
-    let a = read_runs(a_paths)?;
-    let b = read_runs(b_paths)?;
+    let (a_paths, b_paths) = (distinct(a_paths), distinct(b_paths));
+    refuse_files_on_both_sides(&a_paths, &b_paths)?;
+    let compare = !b_paths.is_empty();
+    let a = read_runs(&a_paths)?;
+    let b = read_runs(&b_paths)?;
     let problems: Vec<String> = a
         .iter()
         .chain(&b)
@@ -40,8 +47,13 @@ pub fn runs_report(a_paths: &[PathBuf], b_paths: &[PathBuf], out: &Path) -> Resu
             .collect()
     };
     let (a, b) = (usable(&a), usable(&b));
+    if compare {
+        like_with_like("A", &a)?;
+        like_with_like("B", &b)?;
+        note_different_conditions(&a, &b);
+    }
     let mut groups: Vec<(String, Vec<&RunFile>)> = Vec::new();
-    if b_paths.is_empty() {
+    if !compare {
         let mut by_key: BTreeMap<RunKey, Vec<&RunFile>> = BTreeMap::new();
         for run in &a {
             if let Some(header) = &run.header {
@@ -69,7 +81,7 @@ pub fn runs_report(a_paths: &[PathBuf], b_paths: &[PathBuf], out: &Path) -> Resu
             pictures,
         });
     }
-    let text = markdown::report(&sections, !b_paths.is_empty(), &problems);
+    let text = markdown::report(&sections, compare, &problems);
     let path = out.join("report.md");
     std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
     eprintln!("wogan report: wrote {}", path.display());
@@ -89,9 +101,92 @@ fn end_note(run: &RunFile) -> Option<&'static str> {
     }
 }
 
+/// A run file as given, and the file it is: its canonical path, or the path as given when that
+/// cannot be resolved (a missing file, which reading reports; `-` for standard input).
+struct GivenFile {
+    /// The path as given.
+    path: PathBuf,
+    /// The canonical path.
+    file: PathBuf,
+}
+
+/// `paths` with each file once (by canonical path), where first given. Counting a run twice
+/// would weigh it twice in the figures and in the tests between groups, so a repetition is left
+/// out, and said so on stderr.
+fn distinct(paths: &[PathBuf]) -> Vec<GivenFile> {
+    let mut files: Vec<GivenFile> = Vec::new();
+    for path in paths {
+        let file = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
+        if let Some(first) = files.iter().find(|f| f.file == file) {
+            eprintln!(
+                "wogan report: {} is the same file as {}; it counts once",
+                path.display(),
+                first.path.display()
+            );
+            continue;
+        }
+        files.push(GivenFile {
+            path: path.clone(),
+            file,
+        });
+    }
+    files
+}
+
+/// Refuses a file given in both groups of a comparison: a run cannot be a sample of both.
+fn refuse_files_on_both_sides(a: &[GivenFile], b: &[GivenFile]) -> Result<()> {
+    for in_b in b {
+        if let Some(in_a) = a.iter().find(|f| f.file == in_b.file) {
+            bail!(
+                "{} (group B, after --vs) is the same file as {} (group A): a run cannot be on \
+                 both sides of a comparison",
+                in_b.path.display(),
+                in_a.path.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a group of a comparison whose runs mix drivers, failure thresholds or speed limits:
+/// its figures would be no sample of one condition, and the comparison not like with like.
+fn like_with_like(group: &str, runs: &[RunFile]) -> Result<()> {
+    let conditions: Vec<(&Path, String)> = runs
+        .iter()
+        .filter_map(|r| Some((r.path.as_path(), r.header.as_ref()?.key.conditions())))
+        .collect();
+    let distinct: BTreeSet<&str> = conditions.iter().map(|(_, c)| c.as_str()).collect();
+    if distinct.len() <= 1 {
+        return Ok(());
+    }
+    let files: String = conditions
+        .iter()
+        .map(|(path, condition)| format!("\n  {}: {condition}", path.display()))
+        .collect();
+    bail!(
+        "group {group} mixes drivers, oob tolerances or speed limits, so it is no sample of one \
+         condition:{files}\ngive each group of a comparison runs of one driver, tolerance and \
+         speed limit (without --vs, runs are grouped by configuration)"
+    )
+}
+
+/// Says on stderr when the two groups of a comparison differ in driver, failure threshold or
+/// speed limit, since then the comparison is between those too, not only between searches.
+fn note_different_conditions(a: &[RunFile], b: &[RunFile]) {
+    let condition = |runs: &[RunFile]| {
+        runs.iter()
+            .find_map(|r| Some(r.header.as_ref()?.key.conditions()))
+    };
+    if let (Some(a), Some(b)) = (condition(a), condition(b)) {
+        if a != b {
+            eprintln!("wogan report: note: group A is of {a}, group B of {b}");
+        }
+    }
+}
+
 /// Reads every file; a file that cannot be opened is bad usage.
-fn read_runs(paths: &[PathBuf]) -> Result<Vec<RunFile>> {
-    paths.iter().map(|p| read_run(p)).collect()
+fn read_runs(files: &[GivenFile]) -> Result<Vec<RunFile>> {
+    files.iter().map(|f| read_run(&f.path)).collect()
 }
 
 /// The distinct configurations of `runs`, joined.

@@ -41,6 +41,15 @@ impl RunKey {
             self.algorithm, self.oracle, self.fitness, self.oob_tolerance, self.speed_limit_kmh
         )
     }
+
+    /// What a drive is judged under, which runs compared as one group must share: the driver,
+    /// the failure threshold and the speed limit (`driver dave2-proxy, oob 0.1, 30.0 km/h`).
+    pub fn conditions(&self) -> String {
+        format!(
+            "driver {}, oob {}, {} km/h",
+            self.oracle, self.oob_tolerance, self.speed_limit_kmh
+        )
+    }
 }
 
 /// The header's fields the report uses.
@@ -160,6 +169,10 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
 fn read_header(header: &Header) -> RunHeader {
     let text = |v: Option<&Value>| match v {
         Some(Value::String(s)) => s.clone(),
+        // As the number it is, so that a limit written `70` groups with `70.0`.
+        Some(Value::Number(n)) => n
+            .as_f64()
+            .map_or_else(|| n.to_string(), |f| Value::from(f).to_string()),
         Some(Value::Null) | None => "?".to_owned(),
         Some(other) => other.to_string(),
     };
@@ -216,6 +229,10 @@ mod tests {
         let header = run.header.expect("a header");
         assert_eq!(header.key.oob_tolerance, "0.5");
         assert_eq!(header.key.speed_limit_kmh, "70.0");
+        assert_eq!(
+            header.key.conditions(),
+            "driver beamng-ai-proxy, oob 0.5, 70.0 km/h"
+        );
         assert_eq!(header.seed, Some(7));
         assert_eq!(run.tests.len(), 1);
         assert!(!run.tests[0].failed());
@@ -250,6 +267,25 @@ mod tests {
         let old = key_of("wogan", "{}");
         assert_eq!(old.acceptance, "");
         assert!(old.label().contains("fitness distance / oob"));
+    }
+
+    #[test]
+    fn numbers_group_as_the_numbers_they_are() {
+        let key_of = |sim: &str| {
+            let header: Header = serde_json::from_str(&format!(
+                r#"{{"version":"0.1.0","algorithm":"random","oracle":"dave2-proxy","fitness":"distance","config":{{"sim":{sim}}}}}"#
+            ))
+            .unwrap();
+            read_header(&header).key
+        };
+        let typed = key_of(r#"{"oob_tolerance":0.10,"speed_limit_kmh":30}"#);
+        let written = key_of(r#"{"oob_tolerance":0.1,"speed_limit_kmh":30.0}"#);
+        assert_eq!(typed, written);
+        assert_eq!(typed.conditions(), "driver dave2-proxy, oob 0.1, 30.0 km/h");
+        assert_eq!(
+            key_of("{}").conditions(),
+            "driver dave2-proxy, oob ?, ? km/h"
+        );
     }
 
     #[test]

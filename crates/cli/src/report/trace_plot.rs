@@ -1,7 +1,7 @@
 //! A picture of one simulation from a `wogan simulate --trace` file: the car's path over the road
 //! (coloured by BOLP), and BOLP and speed over time, in one SVG.
 
-use super::plots::{draw_map_mesh, plot_error, road_outline};
+use super::plots::{draw_map_mesh, plot_error, road_outline, titled};
 use crate::json_lines::{numbered_lines, open_input};
 use crate::records::TraceRecord;
 use anyhow::{anyhow, Result};
@@ -73,7 +73,8 @@ pub fn trace_svg(path: &Path, title: &str, trace: &Trace) -> Result<()> {
         .map_err(|e| anyhow!("the trace's road cannot be built: {e}"))?;
     let root = SVGBackend::new(path, (1300, 650)).into_drawing_area();
     root.fill(&WHITE).map_err(&err)?;
-    let root = root.titled(title, ("sans-serif", 22)).map_err(&err)?;
+    // Wrapped to the picture's width, so that a long file name is not cut off.
+    let root = titled(&root, title, 22, None).map_err(&err)?;
     let (map_area, right) = root.split_horizontally(640);
     let (bolp_area, speed_area) = right.split_vertically(300);
 

@@ -273,13 +273,13 @@ mod tests {
     fn drive_quietly(points: &[Point], config: &SimConfig) -> SimResult {
         let road = Road::new(points).unwrap();
         let mut driver = BeamNgAiProxy::new(BeamNgAiParams::default());
-        simulate(&road, &mut driver, config, false)
+        simulate(&road, &mut driver, config, false, None)
     }
 
     fn drive(points: &[Point], config: &SimConfig) -> SimResult {
         let road = Road::new(points).unwrap();
         let mut driver = BeamNgAiProxy::new(BeamNgAiParams::default());
-        simulate(&road, &mut driver, config, true)
+        simulate(&road, &mut driver, config, true, None)
     }
 
     /// A straight start of `lead_m`, then an arc of `radius_m` turning left by `angle_rad`,

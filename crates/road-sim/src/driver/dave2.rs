@@ -8,7 +8,7 @@
 use super::config::DriverPreset;
 use super::pedals;
 use crate::road::Road;
-use crate::settings::{all_non_negative, all_positive, SettingsError};
+use crate::settings::{all_non_negative, all_within, SettingsError};
 use crate::sim::{Command, Driver, FitnessKind, Observation, VehicleParams};
 use crate::vision::{Camera, CameraParams, Dave2Net, Dave2Weights, Frame, RoadScene, WeightsError};
 use serde::{Deserialize, Serialize};
@@ -69,13 +69,14 @@ impl Default for Dave2DriverParams {
 }
 
 impl Dave2DriverParams {
-    /// Names the first setting the driver cannot work with.
+    /// Names the first setting the driver cannot work with. The control rate is at most 100 Hz:
+    /// each tick renders a frame and runs the network, the costly part of a drive.
     pub fn validate(&self) -> Result<(), SettingsError> {
-        all_positive(
+        all_within(
             "driver.",
             &[
-                ("control_hz", self.control_hz),
-                ("speed_kmh", self.speed_kmh),
+                ("control_hz", self.control_hz, 0.1, 100.0),
+                ("speed_kmh", self.speed_kmh, 0.1, 300.0),
             ],
         )?;
         all_non_negative(
@@ -156,11 +157,13 @@ impl Driver for Dave2Driver {
             .get_or_insert_with(|| RoadScene::new(observation.road));
         self.camera
             .render_into(scene, car.position, car.heading_rad, &mut self.frame);
-        let steer = f64::from(self.net.predict(&self.frame.data));
-        let steer = if steer.is_finite() {
-            steer.clamp(-1.0, 1.0)
+        // A non-finite output stays non-finite, so the episode ends in ERROR: the network is
+        // broken, and steering straight instead would pass a broken driver off as a working one.
+        let raw = f64::from(self.net.predict(&self.frame.data));
+        let steer = if raw.is_finite() {
+            raw.clamp(-1.0, 1.0)
         } else {
-            0.0
+            f64::NAN
         };
         let p = &self.params;
         let (throttle, brake) = pedals(
@@ -180,13 +183,43 @@ impl Driver for Dave2Driver {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::{simulate, SimConfig};
+    use crate::sim::{simulate, Outcome, SimConfig, StopReason};
 
     #[test]
     fn the_embedded_weights_decode() {
         assert_eq!(
             Dave2Weights::from_bytes(EMBEDDED_WEIGHTS).map(|w| w.to_bytes().len()),
             Ok(EMBEDDED_WEIGHTS.len())
+        );
+    }
+
+    #[test]
+    fn a_network_that_answers_with_a_non_finite_number_ends_the_drive_in_error() {
+        // The largest weights a blob may hold overflow f32 within the nine layers.
+        let mut weights = Dave2Weights::from_seed(1);
+        for layer in weights
+            .convs
+            .iter_mut()
+            .map(|c| (&mut c.weight, &mut c.bias))
+        {
+            layer.0.fill(1e4);
+            layer.1.fill(1e4);
+        }
+        for layer in weights
+            .denses
+            .iter_mut()
+            .map(|d| (&mut d.weight, &mut d.bias))
+        {
+            layer.0.fill(1e4);
+            layer.1.fill(1e4);
+        }
+        let weights = Dave2Weights::from_bytes(&weights.to_bytes()).expect("within the bounds");
+        let road = Road::new(&[[100.0, 10.0], [100.0, 60.0], [100.0, 110.0]]).unwrap();
+        let mut driver = Dave2Driver::new(&weights, Dave2DriverParams::default());
+        let r = simulate(&road, &mut driver, &SimConfig::default(), false, None);
+        assert_eq!(
+            (r.outcome, r.reason),
+            (Outcome::Error, Some(StopReason::NonFiniteCommand))
         );
     }
 
@@ -205,7 +238,7 @@ mod tests {
         let run = || {
             let mut d =
                 Dave2Driver::from_bytes(&weights.to_bytes(), Dave2DriverParams::default()).unwrap();
-            simulate(&road, &mut d, &config, true)
+            simulate(&road, &mut d, &config, true, None)
         };
         let (a, b) = (run(), run());
         let (ta, tb) = (a.trace.unwrap(), b.trace.unwrap());
@@ -230,7 +263,7 @@ mod tests {
         let road = Road::new(&pts).unwrap();
         let mut d = Dave2Driver::new(&Dave2Weights::from_seed(11), Dave2DriverParams::default());
         let started = std::time::Instant::now();
-        let r = simulate(&road, &mut d, &SimConfig::default(), false);
+        let r = simulate(&road, &mut d, &SimConfig::default(), false, None);
         eprintln!(
             "dave2-proxy: {:.1} m road, {:?} after {:.1} simulated s, {:.0} ms wall ({} control steps)",
             road.length_m(),

@@ -5,7 +5,7 @@ use super::curvature::{CurvatureRoad, DEFAULT_STEP_M};
 use super::Point;
 use serde_json::Value;
 
-/// Record types of `wogan run` output that hold no road and are skipped.
+/// Record types of `wogan` output that hold no road: skipped when they have none.
 const RECORDS_WITHOUT_ROAD: [&str; 5] = ["header", "train", "summary", "error", "verdict"];
 
 /// What one input line holds.
@@ -72,11 +72,6 @@ pub fn parse_value(value: &Value, map_size_m: f64) -> Result<RoadInput, InputErr
     match value {
         Value::Array(_) => Ok(RoadInput::Points(points_of(value, "road")?)),
         Value::Object(object) => {
-            if let Some(kind) = object.get("type").and_then(Value::as_str) {
-                if RECORDS_WITHOUT_ROAD.contains(&kind) {
-                    return Ok(RoadInput::Skip);
-                }
-            }
             if let Some(points) = object.get("road_points") {
                 return Ok(RoadInput::Points(points_of(points, "road_points")?));
             }
@@ -92,7 +87,11 @@ pub fn parse_value(value: &Value, map_size_m: f64) -> Result<RoadInput, InputErr
                 let points = CurvatureRoad { map_size_m, step_m }.points(&curvature);
                 return Ok(RoadInput::Curvature { curvature, points });
             }
-            Err(InputError::NoRoad)
+            // A run's own records pass through a pipe without an answer, unless they hold a road.
+            match object.get("type").and_then(Value::as_str) {
+                Some(kind) if RECORDS_WITHOUT_ROAD.contains(&kind) => Ok(RoadInput::Skip),
+                _ => Err(InputError::NoRoad),
+            }
         }
         _ => Err(InputError::NoRoad),
     }
@@ -158,6 +157,15 @@ mod tests {
         assert_eq!(
             parse_line(r#"{"type": "summary"}"#, 200.0).unwrap(),
             RoadInput::Skip
+        );
+        // A record of a kind without a road that holds one anyway is a road.
+        assert_eq!(
+            parse_line(
+                r#"{"type": "header", "road_points": [[1, 2], [3, 4]]}"#,
+                200.0
+            )
+            .unwrap(),
+            RoadInput::Points(vec![[1.0, 2.0], [3.0, 4.0]])
         );
     }
 

@@ -16,6 +16,9 @@ pub const INTERPOLATION_DISTANCE_M: f64 = 1.0;
 pub const MIN_SAMPLES: usize = 20;
 /// Interpolated coordinates are rounded to this many decimals, as the competition does.
 pub const ROUNDING_DECIMALS: i32 = 3;
+/// Longest polyline the spline is sampled along, metres: one sample per metre, so this bounds the
+/// memory and time of any interpolation whatever the points.
+pub const MAX_LENGTH_M: f64 = 20_000.0;
 
 /// Why a point list cannot be interpolated.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -29,6 +32,9 @@ pub enum SplineError {
     /// Two consecutive points coincide, so the chord-length parameter does not increase.
     #[error("points {0} and {1} coincide")]
     RepeatedPoint(usize, usize),
+    /// The polyline through the points is longer than [`MAX_LENGTH_M`].
+    #[error("the points span {0} m, more than the {MAX_LENGTH_M} m a road may")]
+    TooLong(f64),
 }
 
 /// Length of the polyline through `points`, metres.
@@ -45,18 +51,34 @@ pub fn distance(a: Point, b: Point) -> f64 {
 /// metre (at least [`MIN_SAMPLES`] intervals), coordinates rounded to 3 decimals.
 pub fn interpolate(points: &[Point]) -> Result<Vec<Point>, SplineError> {
     let curve = ParametricSpline::fit(points)?;
-    let intervals =
-        ((polyline_length(points) / INTERPOLATION_DISTANCE_M) as usize).max(MIN_SAMPLES);
-    let step = 1.0 / intervals as f64;
+    let length_m = polyline_length(points);
+    if length_m > MAX_LENGTH_M {
+        return Err(SplineError::TooLong(length_m));
+    }
+    let step = sample_step(length_m);
     // numpy's arange(0, 1 + step, step) has ceil((stop - start) / step) elements, computed in
     // floating point; for some n this is n + 2 and the last sample lies past u = 1.
     let count = ((1.0 + step) / step).ceil() as usize;
-    Ok((0..count)
-        .map(|i| {
-            let [x, y] = curve.eval(i as f64 * step);
-            [round_like_numpy(x), round_like_numpy(y)]
-        })
+    Ok((0..count).map(|i| curve.sample(i as f64 * step)).collect())
+}
+
+/// Of the samples [`interpolate`] would make, the one nearest (in the curve's parameter) to each
+/// point, without making the others: enough to see that a road leaves the map, at the cost of
+/// one evaluation per point.
+pub fn samples_at_points(points: &[Point]) -> Result<Vec<Point>, SplineError> {
+    let curve = ParametricSpline::fit(points)?;
+    let step = sample_step(polyline_length(points));
+    Ok(curve
+        .knots
+        .iter()
+        .map(|&u| curve.sample((u / step).round() * step))
         .collect())
+}
+
+/// The parameter step between samples of a spline through points `length_m` apart in all.
+fn sample_step(length_m: f64) -> f64 {
+    let intervals = ((length_m / INTERPOLATION_DISTANCE_M) as usize).max(MIN_SAMPLES);
+    1.0 / intervals as f64
 }
 
 /// Rounds to [`ROUNDING_DECIMALS`] decimals the way numpy does: scale, round half to even, unscale.
@@ -78,6 +100,12 @@ pub struct ParametricSpline {
 }
 
 impl ParametricSpline {
+    /// The point at parameter `u`, rounded as the competition rounds its samples.
+    fn sample(&self, u: f64) -> Point {
+        let [x, y] = self.eval(u);
+        [round_like_numpy(x), round_like_numpy(y)]
+    }
+
     /// Fits the interpolant of FITPACK's `splprep(s=0)` through `points`.
     pub fn fit(points: &[Point]) -> Result<Self, SplineError> {
         if points.len() < 2 {

@@ -3,12 +3,13 @@
 //! breaks. The episode defines what it drives with ([`Driver`]); the drivers we ship live in
 //! [`crate::driver`].
 
-use super::config::SimConfig;
+use super::config::{SimConfig, MAX_SIM_TIME_S};
 use super::fitness::{fitness_from_distance, CENTRED_DISTANCE_M};
 use super::lane_monitor::LaneMonitor;
 use super::outcome::{Outcome, Sample, SimResult, StopReason};
 use super::vehicle::{CarState, Command, Vehicle, VehicleParams};
 use crate::road::{Point, Road, RoadFeatures, LANE_WIDTH_M};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// What a driver is told at each of its control ticks.
@@ -63,12 +64,14 @@ pub fn start_pose(road: &Road, offset_m: f64) -> (Point, f64) {
 }
 
 /// Drives `driver` on `road`; returns the verdict, the oracle's figures and, if `trace`, the
-/// samples.
+/// samples. When `stop` is given and set, the drive ends between two physics steps in ERROR
+/// (`interrupted`).
 pub fn simulate(
     road: &Road,
     driver: &mut dyn Driver,
     config: &SimConfig,
     trace: bool,
+    stop: Option<&AtomicBool>,
 ) -> SimResult {
     let started = Instant::now();
     let features = RoadFeatures::of(&road.interpolated);
@@ -106,6 +109,9 @@ pub fn simulate(
             {
                 break (Outcome::Error, Some(StopReason::NonFiniteCommand));
             }
+        }
+        if stop.is_some_and(|stop| stop.load(Ordering::Relaxed)) {
+            break (Outcome::Error, Some(StopReason::Interrupted));
         }
         vehicle.step(&command);
         step += 1;
@@ -158,6 +164,9 @@ pub fn simulate(
         }
         if t >= timeout_s {
             break (Outcome::Fail, Some(StopReason::Timeout));
+        }
+        if t >= MAX_SIM_TIME_S {
+            break (Outcome::Error, Some(StopReason::SimTimeLimit));
         }
     };
     let n = count.max(1) as f64;
@@ -236,7 +245,7 @@ mod tests {
             },
         };
         let road = Road::new(&[[0.0, 0.0], [0.0, 100.0]]).unwrap();
-        let r = simulate(&road, &mut parked, &SimConfig::default(), false);
+        let r = simulate(&road, &mut parked, &SimConfig::default(), false, None);
         assert_eq!(
             (r.outcome, r.reason),
             (Outcome::Fail, Some(StopReason::NotMoving))
@@ -256,7 +265,7 @@ mod tests {
             },
         };
         let road = Road::new(&[[0.0, 0.0], [0.0, 100.0], [0.0, 200.0]]).unwrap();
-        let r = simulate(&road, &mut broken, &SimConfig::default(), false);
+        let r = simulate(&road, &mut broken, &SimConfig::default(), false, None);
         assert_eq!(
             (r.outcome, r.reason),
             (Outcome::Error, Some(StopReason::NonFiniteCommand))
@@ -276,11 +285,65 @@ mod tests {
             },
         };
         let road = Road::new(&[[0.0, 0.0], [0.0, 100.0], [0.0, 200.0]]).unwrap();
-        let r = simulate(&road, &mut swerve, &SimConfig::default(), false);
+        let r = simulate(&road, &mut swerve, &SimConfig::default(), false, None);
         assert_eq!(
             (r.outcome, r.reason),
             (Outcome::Fail, Some(StopReason::OutOfLane))
         );
         assert!(r.max_bolp > 0.85 && r.min_lane_distance_m < 0.0 && r.fitness_distance > 0.5);
+    }
+
+    #[test]
+    fn a_stop_ends_the_drive_between_physics_steps() {
+        let mut cruise = Scripted {
+            control_hz: 20.0,
+            act: |_| Command {
+                steering_rad: 0.0,
+                throttle: 0.3,
+                brake: 0.0,
+            },
+        };
+        let road = Road::new(&[[0.0, 0.0], [0.0, 100.0], [0.0, 200.0]]).unwrap();
+        let stop = AtomicBool::new(true);
+        let r = simulate(
+            &road,
+            &mut cruise,
+            &SimConfig::default(),
+            false,
+            Some(&stop),
+        );
+        assert_eq!(
+            (r.outcome, r.reason, r.sim_time_s),
+            (Outcome::Error, Some(StopReason::Interrupted), 0.0)
+        );
+    }
+
+    #[test]
+    fn a_drive_never_outlasts_the_simulated_time_limit() {
+        let mut parked = Scripted {
+            control_hz: 1.0,
+            act: |_| Command {
+                brake: 1.0,
+                ..Command::default()
+            },
+        };
+        // A time limit beyond the cap and no not-moving rule, at the lowest physics rate.
+        let config = SimConfig {
+            physics_hz: 10.0,
+            sample_hz: 1.0,
+            timeout_base_s: MAX_SIM_TIME_S,
+            not_moving_distance_m: 0.0,
+            ..SimConfig::default()
+        };
+        config.validate().unwrap();
+        let road = Road::new(&[[0.0, 0.0], [0.0, 100.0], [0.0, 200.0]]).unwrap();
+        let r = simulate(&road, &mut parked, &config, false, None);
+        assert_eq!(r.reason, Some(StopReason::SimTimeLimit), "{r:?}");
+        assert_eq!(r.outcome, Outcome::Error);
+        assert!(
+            (r.sim_time_s - MAX_SIM_TIME_S).abs() < 1e-6,
+            "{}",
+            r.sim_time_s
+        );
     }
 }

@@ -9,7 +9,7 @@ pub mod lane_monitor;
 mod outcome;
 pub mod vehicle;
 
-pub use config::SimConfig;
+pub use config::{SimConfig, MAX_PHYSICS_HZ, MAX_SIM_TIME_S};
 pub use episode::{simulate, start_pose, Driver, Observation};
 pub use fitness::{
     fitness_from_distance, FitnessKind, CENTRED_DISTANCE_M, FITNESS_FAILURE_DISTANCE_M,

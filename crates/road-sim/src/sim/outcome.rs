@@ -28,6 +28,10 @@ pub enum StopReason {
     NonFinitePhysicsState,
     /// The driver asked for a non-finite steering, throttle or brake.
     NonFiniteCommand,
+    /// The drive reached [`super::config::MAX_SIM_TIME_S`] simulated seconds without ending.
+    SimTimeLimit,
+    /// The caller's stop flag cut the drive short.
+    Interrupted,
 }
 
 /// One oracle sample of the drive.
@@ -131,6 +135,8 @@ mod tests {
                 "non_finite_physics_state",
             ),
             (StopReason::NonFiniteCommand, "non_finite_command"),
+            (StopReason::SimTimeLimit, "sim_time_limit"),
+            (StopReason::Interrupted, "interrupted"),
         ];
         for (reason, name) in names {
             assert_eq!(

@@ -29,6 +29,12 @@ pub const MIN_RADIUS_FT: f64 = 47.0;
 /// Feet per metre, as the competition converts.
 pub const FEET_PER_METRE: f64 = 3.280839895;
 
+/// Largest map side the tool accepts, metres (10x the competition's 200 m).
+pub const MAX_MAP_SIZE_M: f64 = 2000.0;
+/// Longest road the validator interpolates, metres: bounds the work of one road (one point per
+/// metre) whatever its points or the map.
+pub const MAX_ROAD_LENGTH_M: f64 = spline::MAX_LENGTH_M;
+
 /// Why a road is invalid: a stable code for machines plus the competition's message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -47,6 +53,9 @@ pub enum Reason {
     TooShort,
     /// A turn is tighter than [`MIN_RADIUS_FT`].
     TooSharp,
+    /// The polyline through the points is longer than [`MAX_ROAD_LENGTH_M`] (our bound, not the
+    /// competition's: on its 200 m map no valid road comes near it).
+    TooLong,
 }
 
 impl Reason {
@@ -60,6 +69,7 @@ impl Reason {
             Reason::SelfIntersecting => "self_intersecting",
             Reason::TooShort => "too_short",
             Reason::TooSharp => "too_sharp",
+            Reason::TooLong => "too_long",
         }
     }
 
@@ -73,6 +83,7 @@ impl Reason {
             Reason::SelfIntersecting => "The road is self-intersecting",
             Reason::TooShort => "The road is not long enough.",
             Reason::TooSharp => "The road is too sharp",
+            Reason::TooLong => "The road is longer than 20 km",
         }
     }
 }
@@ -118,7 +129,8 @@ impl Default for Validator {
 }
 
 impl Validator {
-    /// A validator for a `map_size_m` × `map_size_m` map.
+    /// A validator for a `map_size_m` × `map_size_m` map (at most [`MAX_MAP_SIZE_M`]; callers check
+    /// the range where the size is typed).
     pub fn new(map_size_m: f64) -> Self {
         Self { map_size_m }
     }
@@ -135,11 +147,26 @@ impl Validator {
         if road_points.len() > MAX_ROAD_POINTS {
             return invalid(Reason::TooManyPoints, None);
         }
-        if road_points.iter().flatten().any(|v| !v.is_finite()) {
+        if road_points.iter().flatten().any(|v| !v.is_finite())
+            || road_points.windows(2).any(|w| w[0] == w[1])
+        {
             return invalid(Reason::Malformed, None);
         }
+        // A centre-line sample more than half the road's width outside the map puts both edge
+        // points made from it outside, so the interpolated road would fail the map rule: say so
+        // from the samples at the road points alone, without interpolating every metre (most
+        // random roads leave the map, and a search checks millions).
+        let half_width_m = ROAD_WIDTH_M / 2.0;
+        if spline::samples_at_points(road_points).is_ok_and(|samples| {
+            samples
+                .iter()
+                .flatten()
+                .any(|&v| v < -half_width_m || v > self.map_size_m + half_width_m)
+        }) {
+            return invalid(Reason::OutsideMap, None);
+        }
         let length_m = spline::polyline_length(road_points);
-        if length_m.is_nan() || length_m > self.longest_possible_road_m() {
+        if length_m.is_nan() || length_m > self.longest_possible_road_m().min(MAX_ROAD_LENGTH_M) {
             // Too long to be valid, and too long to interpolate every metre: the spline is at
             // least as long as the polyline through its points.
             let off_map = road_points
@@ -148,8 +175,10 @@ impl Validator {
                 .any(|&v| v <= 0.0 || v >= self.map_size_m);
             let reason = if off_map {
                 Reason::OutsideMap
-            } else {
+            } else if length_m > self.longest_possible_road_m() {
                 Reason::SelfIntersecting
+            } else {
+                Reason::TooLong
             };
             return invalid(reason, None);
         }
@@ -408,6 +437,20 @@ mod tests {
 
     fn reason(points: &[Point]) -> Option<Reason> {
         Validator::default().validate(points).reason
+    }
+
+    #[test]
+    fn a_road_too_long_to_interpolate_is_refused_before_interpolation() {
+        // On a huge map these points are inside and the area bound is infinite: only the length
+        // bound keeps the spline from asking for 1e297 samples.
+        let huge = Validator::new(1e308);
+        let verdict = huge.validate(&[[1e300, 1e300], [1e300, 1.0000000000001e300]]);
+        assert_eq!(verdict.reason, Some(Reason::TooLong));
+        let large = Validator::new(MAX_MAP_SIZE_M);
+        let zigzag: Vec<Point> = (0..30)
+            .map(|i| [10.0 + 1900.0 * f64::from(i % 2), 10.0 + 60.0 * f64::from(i)])
+            .collect();
+        assert_eq!(large.validate(&zigzag).reason, Some(Reason::TooLong));
     }
 
     #[test]

@@ -26,6 +26,9 @@ pub const DENSES: [(usize, usize); 4] = [(1152, 100), (100, 50), (50, 10), (10, 
 pub const FRAME_PIXELS: usize = FRAME_HEIGHT * FRAME_WIDTH;
 
 const MAGIC: &[u8; 4] = b"DAV2";
+
+/// Largest weight magnitude a blob may hold (trained weights stay far below it).
+pub const MAX_ABS_WEIGHT: f32 = 1e4;
 const FORMAT_VERSION: u32 = 1;
 
 /// A convolution's weights: `weight` is `[c_out][c_in][k][k]`.
@@ -56,11 +59,20 @@ pub struct Dave2Weights {
 }
 
 /// Why a weight blob could not be read.
-#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[derive(Debug, thiserror::Error, PartialEq)]
 pub enum WeightsError {
     /// Not a DAVE-2 weight blob.
     #[error("not a DAVE-2 weight blob (bad magic or version)")]
     BadHeader,
+    /// A value is not finite or larger than [`MAX_ABS_WEIGHT`] in magnitude: not weights any
+    /// training makes, and a network that would answer with nonsense.
+    #[error("DAVE-2 weight {index} is {value}: every weight must be finite and at most 1e4 in magnitude")]
+    BadValue {
+        /// Position of the value in the blob, from 0.
+        index: usize,
+        /// The value.
+        value: f32,
+    },
     /// The blob holds the wrong number of values.
     #[error("a DAVE-2 weight blob of {got} bytes, expected {expected}")]
     BadLength {
@@ -160,7 +172,17 @@ impl Dave2Weights {
                 bias: take(dout),
             })
             .collect();
-        Ok(Self { convs, denses })
+        let weights = Self { convs, denses };
+        let bad = weights
+            .slices()
+            .flatten()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && v.abs() <= MAX_ABS_WEIGHT))
+            .map(|(index, &value)| WeightsError::BadValue { index, value });
+        match bad {
+            Some(error) => Err(error),
+            None => Ok(weights),
+        }
     }
 }
 
@@ -194,5 +216,24 @@ mod tests {
             Dave2Weights::from_bytes(b"nope").unwrap_err(),
             WeightsError::BadHeader
         );
+    }
+
+    #[test]
+    fn non_finite_or_huge_weights_are_refused() {
+        let mut bytes = Dave2Weights::from_seed(3).to_bytes();
+        // The fifth value of the blob (after the 12-byte header).
+        bytes[12 + 16..12 + 20].copy_from_slice(&f32::INFINITY.to_le_bytes());
+        assert_eq!(
+            Dave2Weights::from_bytes(&bytes).unwrap_err(),
+            WeightsError::BadValue {
+                index: 4,
+                value: f32::INFINITY
+            }
+        );
+        bytes[12 + 16..12 + 20].copy_from_slice(&2e4f32.to_le_bytes());
+        assert!(matches!(
+            Dave2Weights::from_bytes(&bytes),
+            Err(WeightsError::BadValue { index: 4, .. })
+        ));
     }
 }
