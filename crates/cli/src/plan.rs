@@ -262,7 +262,7 @@ impl RunPlan {
         Header {
             version: VERSION.to_string(),
             seed: Some(self.seed),
-            algorithm: self.algorithm,
+            algorithm: self.algorithm.name().to_owned(),
             oracle: self.oracle(),
             fitness: self.fitness,
             config: &self.settings,

@@ -15,7 +15,9 @@ use driver_training::{CloningConfig, CloningReport};
 use road_sim::road::Point;
 use road_sim::{DriverKind, FitnessKind, Outcome, Reason, Sample, SimResult};
 use serde::{Deserialize, Deserializer, Serialize};
-use wogan_core::{Algorithm, Phase};
+#[cfg(doc)]
+use wogan_core::Algorithm;
+use wogan_core::Phase;
 
 /// The version written in headers.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -54,8 +56,10 @@ pub struct Header<C = serde_json::Value> {
     /// Seed of every random choice.
     #[serde(default)]
     pub seed: Option<u64>,
-    /// The search algorithm.
-    pub algorithm: Algorithm,
+    /// The search algorithm: `wogan` or `random` ([`Algorithm`]) when `wogan run` wrote the file;
+    /// run files of reference implementations name their own (`stgem-wogan`), so it is read as a
+    /// name.
+    pub algorithm: String,
     /// The driver under test.
     pub oracle: DriverKind,
     /// What the search maximised.
@@ -124,23 +128,29 @@ pub struct RoadExecution {
     pub result: SimResult,
 }
 
-/// One training round of WOGAN (the losses of its last steps).
+/// One training round of WOGAN (the losses of its last steps). A reference implementation's run
+/// file may give only the time: the losses then read as NaN.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct TrainRecord {
     /// Analyzer loss.
+    #[serde(default = "nan", deserialize_with = "nan_for_null")]
     pub analyzer_loss: f64,
     /// Critic loss.
+    #[serde(default = "nan", deserialize_with = "nan_for_null")]
     pub critic_loss: f64,
     /// Gradient penalty of the last critic step, coefficient included (absent in older runs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gradient_penalty: Option<f64>,
     /// Generator loss.
+    #[serde(default = "nan", deserialize_with = "nan_for_null")]
     pub generator_loss: f64,
     /// The critic's Wasserstein estimate.
+    #[serde(default = "nan", deserialize_with = "nan_for_null")]
     pub wasserstein_estimate: f64,
     /// Duration of the round, milliseconds.
     pub train_ms: f64,
-    /// Tests the round learnt from.
+    /// Tests the round learnt from (absent in a reference implementation's file).
+    #[serde(default)]
     pub tests: usize,
 }
 
@@ -265,6 +275,11 @@ pub fn known(value: f64) -> Option<f64> {
     (!value.is_nan()).then_some(value)
 }
 
+/// The value of a number a file does not give.
+fn nan() -> f64 {
+    f64::NAN
+}
+
 /// Reads a number that serde_json wrote as `null` because it was not finite, as NaN.
 fn nan_for_null<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
     Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::NAN))
@@ -311,6 +326,16 @@ mod tests {
         };
         assert!(test.fitness.is_nan() && test.execution.result.max_bolp.is_nan());
         assert_eq!(test.ranked_candidates, None);
+        // A reference implementation's run (stgem's WOGAN on our simulator) names its own
+        // algorithm and reports only the training time.
+        let header: Record = serde_json::from_str(
+            r#"{"type":"header","version":"stgem-reference","seed":1,"algorithm":"stgem-wogan","oracle":"beamng-ai-proxy","fitness":"bolp","config":{}}"#,
+        )
+        .unwrap();
+        assert!(matches!(header, Record::Header(h) if h.algorithm == "stgem-wogan"));
+        let train: Record =
+            serde_json::from_str(r#"{"type":"train","before_test":298,"train_ms":102.0}"#).unwrap();
+        assert!(matches!(train, Record::Train(t) if t.critic_loss.is_nan() && t.train_ms == 102.0));
         let unknown: Record = serde_json::from_str(r#"{"type":"future","x":1}"#).unwrap();
         assert!(matches!(unknown, Record::Unknown));
     }

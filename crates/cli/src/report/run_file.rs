@@ -179,7 +179,7 @@ fn read_header(header: &Header) -> RunHeader {
     let sim = header.config.get("sim");
     let oob = sim.and_then(|s| s.get("oob_tolerance"));
     let speed = sim.and_then(|s| s.get("speed_limit_kmh"));
-    let algorithm = header.algorithm.name().to_owned();
+    let algorithm = header.algorithm.clone();
     RunHeader {
         key: RunKey {
             oracle: header.oracle.name().to_owned(),
