@@ -130,8 +130,8 @@ fn read_ahead(
     receiver
 }
 
-/// `first` and, when it opens a JSON value that it does not close, the lines that complete it
-/// (within [`MAX_LINES_PER_VALUE`] and [`MAX_BYTES_PER_VALUE`]).
+/// `first` and, when it is the opening bracket of a JSON value spread over lines, the lines that
+/// complete it (within [`MAX_LINES_PER_VALUE`] and [`MAX_BYTES_PER_VALUE`]).
 fn join_continued(
     first: InputLine,
     rest: &mut impl Iterator<Item = std::io::Result<InputLine>>,
@@ -139,7 +139,9 @@ fn join_continued(
     let Ok(text) = &first.text else {
         return Ok(first);
     };
-    if !opens_unfinished_value(text) {
+    // Only a line that is nothing but an opening bracket starts a value spread over lines (as a
+    // pretty-printer writes it): a truncated one-line record must not swallow the lines after it.
+    if !matches!(text.trim(), "{" | "[") || !opens_unfinished_value(text) {
         return Ok(first);
     }
     let mut joined = text.clone();
@@ -242,6 +244,11 @@ mod tests {
         // A line that is not JSON at all is not joined with the next.
         assert_eq!(lines("nope\n[[1, 2]]\n").len(), 2);
         // An unfinished value at the end of the input is given as it is.
-        assert_eq!(lines("{\"road_points\": [\n").len(), 1);
+        assert_eq!(lines("{\n\"road_points\": [\n").len(), 1);
+        // A truncated one-line record does not take the next line with it.
+        assert_eq!(
+            lines("{\"road_points\": [[1, 2]\n[[5, 6], [7, 8]]\n").len(),
+            2
+        );
     }
 }
