@@ -11,6 +11,7 @@
 # What it reads (nothing here is measured twice: each source has its own script):
 #   target/effectiveness/ORACLE.TAG.ALGORITHM.SEED.jsonl   scripts/search_figures.sh (seeds 1-20)
 #   target/stgem/ORACLE.stgem.SEED.jsonl                   scripts/reference/stgem_search.py
+#   target/sbst/ORACLE.ALGORITHM.SEED.jsonl                 scripts/sbst_budget_runs.sh (optional)
 #   target/criterion/**/new/estimates.json                 cargo bench (commands in the output)
 #   target/results/train-driver.json (optional)            wogan train-driver --seed 1 ... (below)
 #   tests/reference/*.jsonl                                the competition's vectors
@@ -331,6 +332,100 @@ def comparisons_section():
                 ma, mb, p = rows.get(measure, ("–", "–", "–"))
                 cells += [f"{num(float(ma), 2)} / {num(float(mb), 2)}" if ma != "–" else "–", p_text(p)]
             out(f"| {what} | " + " | ".join(cells) + " |")
+
+
+# ---------------------------------------------------------------------------------------------
+# Under the SBST 2022 competition's budgets (scripts/sbst_budget_runs.sh: 1 h generation, 2 h
+# simulated execution), with the competition's measures as `wogan report` computes them.
+SBST_ROWS = [
+    ("tests generated (handed to execution)", "tests generated"),
+    ("failures", "failures"),
+    ("invalid candidates rejected before proposing", "invalid candidates rejected before proposing"),
+    ("efficiency (generation time per test, ms)", "efficiency: generation time charged per test (ms)"),
+    ("lane exits over the centre line (left)", "lane exits over the centre line (left)"),
+    ("lane exits over the road's edge (right)", "lane exits over the road's edge (right)"),
+    ("OOBAnalyzer: LEFT OOBs", "OOBAnalyzer LEFT OOBs (runs it completes)"),
+    ("OOBAnalyzer: RIGHT OOBs", "OOBAnalyzer RIGHT OOBs (runs it completes)"),
+    ("OOBAnalyzer: sparseness mean (runs it completes)", "OOBAnalyzer sparseness mean (runs it completes)"),
+    ("OOBAnalyzer: sparseness SD (runs it completes)", "OOBAnalyzer sparseness SD (runs it completes)"),
+    ("sparseness mean over the OOBs it places", "sparseness mean over the OOBs it places"),
+]
+
+
+def sbst_group_tables(path):
+    """Each group's table of the competition's measures: measure → (mean, SD, runs)."""
+    groups, table, on = [], None, False
+    for line in open(path):
+        if line.startswith("## Group"):
+            table = {}
+            groups.append(table)
+        elif line.startswith("The SBST competition's measures"):
+            on = True
+        elif on and line.startswith("| ") and not line.startswith("| measure") and table is not None:
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            table[cells[0]] = (cells[1], cells[2], cells[3])
+        elif on and line.startswith("Feature coverage"):
+            on = False
+    return groups
+
+
+def comparison_p(path):
+    """The comparison's p-value per measure, under the report's own row names."""
+    rows, on = {}, False
+    for line in open(path):
+        if line.startswith("## "):
+            on = line.startswith("## Comparison")
+        elif on and line.startswith("| ") and not line.startswith("| measure") and not line.startswith("|---"):
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            rows[cells[0]] = cells[4]
+    return rows
+
+
+def sbst_section():
+    out()
+    out("## Under the SBST competition's budgets")
+    out()
+    out("WOGAN (the paper's settings) and random search with `--generation-budget 1h "
+        "--execution-budget 2h`, seeds 1–20, each exported with `wogan export --format sbst` and "
+        "reported with `wogan report WOGAN --vs RANDOM` (target/sbst/report-ORACLE/): the "
+        "competition's measures as its pipeline computes them, mean (SD) over runs, and the "
+        "Mann–Whitney p-value where the report tests the measure. Effectiveness (valid / generated) "
+        "is 1 in every run: wogan validates before it proposes, and the invalid candidates it "
+        "rejected itself are counted instead. The pipeline's `OOBAnalyzer` fails a whole run when "
+        "one OOB lies where its resampled road has no point within 0.5 m; its rows count only the "
+        "runs it completes, and the last row gives the sparseness over the OOBs it can place in "
+        "every run. Runs: `scripts/sbst_budget_runs.sh ORACLE \"$(seq -s ' ' 1 20)\" 1h 2h`.")
+    for oracle in ORACLES:
+        out()
+        out(f"### {oracle}")
+        out()
+        wogan = [f"target/sbst/{oracle}.wogan.{s}.jsonl" for s in SEEDS]
+        random = [f"target/sbst/{oracle}.random.{s}.jsonl" for s in SEEDS]
+        wogan = [p for p in wogan if os.path.exists(p)]
+        random = [p for p in random if os.path.exists(p)]
+        if not wogan or not random:
+            out(f"Runs missing: `scripts/sbst_budget_runs.sh {oracle} \"$(seq -s ' ' 1 20)\" 1h 2h`.")
+            continue
+        directory = os.path.join(WORK, f"{oracle}-sbst")
+        subprocess.run([WOGAN, "report", *wogan, "--vs", *random, "--out", directory],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        report = os.path.join(directory, "report.md")
+        groups = sbst_group_tables(report)
+        p = comparison_p(report)
+        p["failures"] = p.get("failures per run", "–")
+        out(f"{len(wogan)} WOGAN runs, {len(random)} random runs.")
+        out()
+        out("| measure | WOGAN | random | p |")
+        out("|---|---|---|---|")
+        for name, label in SBST_ROWS:
+            cells = []
+            for table in groups[:2]:
+                mean_, sd, runs = table.get(name, ("–", "–", "0"))
+                cell = "–" if mean_ == "–" else f"{num(float(mean_), 2)} ({num(float(sd), 2) if sd != '–' else '–'})"
+                if runs not in (str(len(wogan)), str(len(random))):
+                    cell += f", {runs} runs"
+                cells.append(cell)
+            out(f"| {label} | {cells[0]} | {cells[1]} | {p_text(p.get(name, '–'))} |")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -687,6 +782,7 @@ def main():
         for path, problem, _, _ in problems:
             out(f"- `{path}`: {problem}")
     comparisons_section()
+    sbst_section()
     per_road = reference_roads_section(bench)
     fidelity_section()
     bench_section(bench, per_road)

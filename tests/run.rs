@@ -27,7 +27,7 @@ fn target_decay(header: &Value) -> f64 {
 /// The parts of a test record that must not depend on timing.
 fn deterministic_part(test: &Value) -> Value {
     let mut test = test.clone();
-    for timing in ["generation_ms", "execution_ms"] {
+    for timing in ["generation_ms", "sbst_generation_ms", "execution_ms"] {
         test.as_object_mut().unwrap().remove(timing);
     }
     test
@@ -196,6 +196,26 @@ fn bad_options_exit_2() {
         &["--algorithm", "random", "--mutation-share", "0.5"],
         &["--target-decay", "1"],
         &["--algorithm", "random", "--target-decay", "0.99"],
+        // The competition's budgets go together, in seconds or as durations, and not with the
+        // one real-time budget.
+        &["--generation-budget", "3600"],
+        &["--execution-budget", "7200"],
+        &["--generation-budget", "1h", "--execution-budget", "0"],
+        &["--generation-budget", "-5", "--execution-budget", "10"],
+        &[
+            "--generation-budget",
+            "1h",
+            "--execution-budget",
+            "2h",
+            "--budget",
+            "1h",
+        ],
+        &[
+            "--generation-budget",
+            "1h",
+            "--execution-budget",
+            "9999999999",
+        ],
     ] {
         let (code, records) = run(args);
         assert_eq!(code, Some(2), "{args:?}");
@@ -342,6 +362,48 @@ fn a_wall_clock_budget_ends_the_run_with_a_summary() {
     assert_eq!(summary["type"], "summary");
     assert!(summary["executed"].as_u64().unwrap() > 0);
     assert_eq!(records[0]["config"]["budget_s"], 1.0);
+}
+
+#[test]
+fn an_execution_budget_ends_the_run_as_the_pipeline_does() {
+    // A generous generation budget: the 600 simulated seconds bind.
+    let (code, records) = run(&[
+        "--generation-budget",
+        "1h",
+        "--execution-budget",
+        "600",
+        "--seed",
+        "3",
+    ]);
+    assert_eq!(code, Some(0));
+    let config = &records[0]["config"];
+    assert_eq!(config["execution_budget_s"], 600.0);
+    assert_eq!(config["generation_budget_s"], 3600.0);
+    assert!(
+        config["max_tests"].is_null(),
+        "the budgets lift the 300 tests"
+    );
+    let tests = of_type(&records, "test");
+    let sim_s = |t: &&Value| t["sim_time_s"].as_f64().unwrap();
+    let (last, kept) = tests.split_last().expect("tests");
+    // The test that spent the budget is reported, marked, and not kept; the kept tests' simulated
+    // time stays under the budget, and with the last one reaches it.
+    assert_eq!(last["beyond_budget"], true);
+    assert!(kept.iter().all(|t| t.get("beyond_budget").is_none()));
+    let kept_s: f64 = kept.iter().map(sim_s).sum();
+    assert!(kept_s < 600.0 && kept_s + sim_s(last) >= 600.0, "{kept_s}");
+    assert!(kept.len() > 50, "WOGAN's roads take seconds each");
+    assert!(
+        tests
+            .iter()
+            .all(|t| t["sbst_generation_ms"].as_f64().unwrap()
+                >= t["generation_ms"].as_f64().unwrap())
+    );
+    let summary = records.last().unwrap();
+    assert_eq!(summary["executed"], kept.len());
+    assert_eq!(summary["beyond_budget"], 1);
+    let charged = summary["execution_time_s"].as_f64().unwrap();
+    assert!((charged - kept_s - sim_s(last)).abs() < 1e-6);
 }
 
 #[test]

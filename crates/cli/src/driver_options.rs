@@ -7,7 +7,7 @@ use clap::Args;
 use road_sim::driver::{BeamNgAiParams, Dave2DriverParams};
 use road_sim::vision::Dave2Weights;
 use road_sim::{DriverConfig, DriverKind, SimConfig};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// The driver under test and how it is judged.
@@ -35,38 +35,7 @@ impl DriverOptions {
     /// The chosen driver with its default tuning, `patch` (a config file's `driver` section)
     /// laid over it, and the weights of `--driver-weights` if given.
     pub fn driver_config(&self, patch: Option<&serde_json::Value>) -> Result<DriverConfig> {
-        let weights = self.dave2_weights()?;
-        let mut driver = DriverConfig::default_for(self.oracle);
-        match &mut driver {
-            DriverConfig::BeamNgAiProxy(params) => {
-                *params = config_file::lay_over::<BeamNgAiParams>(patch, *params, "driver")?;
-            }
-            DriverConfig::Dave2Proxy {
-                params,
-                weights: built_in,
-            } => {
-                *params = config_file::lay_over::<Dave2DriverParams>(patch, *params, "driver")?;
-                if let Some(weights) = weights {
-                    *built_in = weights;
-                }
-            }
-        }
-        Ok(driver)
-    }
-
-    /// The weights of `--driver-weights`, if given (for `dave2-proxy` only).
-    fn dave2_weights(&self) -> Result<Option<Arc<Dave2Weights>>> {
-        let Some(path) = &self.driver_weights else {
-            return Ok(None);
-        };
-        if self.oracle != DriverKind::Dave2Proxy {
-            bail!("--driver-weights is for dave2-proxy, not {}", self.oracle);
-        }
-        let bytes = std::fs::read(path)
-            .with_context(|| format!("cannot read driver weights {}", path.display()))?;
-        let weights = Dave2Weights::from_bytes(&bytes)
-            .with_context(|| format!("driver weights {}", path.display()))?;
-        Ok(Some(Arc::new(weights)))
+        driver_config(self.oracle, patch, self.driver_weights.as_deref(), "driver")
     }
 
     /// The simulation settings these options ask for, on the driver's preset.
@@ -82,4 +51,43 @@ impl DriverOptions {
             ..base
         }
     }
+}
+
+/// Driver `kind` with its default tuning, `patch` (named `section` in errors) laid over it, and
+/// the DAVE-2 weights of the file `weights` if given (for `dave2-proxy` only).
+pub fn driver_config(
+    kind: DriverKind,
+    patch: Option<&serde_json::Value>,
+    weights: Option<&Path>,
+    section: &str,
+) -> Result<DriverConfig> {
+    let weights = weights.map(read_dave2_weights).transpose()?;
+    if weights.is_some() && kind != DriverKind::Dave2Proxy {
+        bail!("--driver-weights is for dave2-proxy, not {kind}");
+    }
+    let mut driver = DriverConfig::default_for(kind);
+    match &mut driver {
+        DriverConfig::BeamNgAiProxy(params) => {
+            *params = config_file::lay_over::<BeamNgAiParams>(patch, *params, section)?;
+        }
+        DriverConfig::Dave2Proxy {
+            params,
+            weights: built_in,
+        } => {
+            *params = config_file::lay_over::<Dave2DriverParams>(patch, *params, section)?;
+            if let Some(weights) = weights {
+                *built_in = weights;
+            }
+        }
+    }
+    Ok(driver)
+}
+
+/// DAVE-2 weights written by `wogan train-driver`.
+fn read_dave2_weights(path: &Path) -> Result<Arc<Dave2Weights>> {
+    let bytes = std::fs::read(path)
+        .with_context(|| format!("cannot read driver weights {}", path.display()))?;
+    let weights = Dave2Weights::from_bytes(&bytes)
+        .with_context(|| format!("driver weights {}", path.display()))?;
+    Ok(Arc::new(weights))
 }

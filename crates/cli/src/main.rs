@@ -16,6 +16,7 @@ mod records;
 mod report;
 mod road_lines;
 mod road_sut;
+mod sbst_format;
 mod value_parsers;
 
 use commands::{camera, export, report as report_command, run, simulate, train_driver, validate};

@@ -8,14 +8,14 @@
 use crate::config_file;
 use crate::driver_options::DriverOptions;
 use crate::records::{Header, VERSION};
-use crate::value_parsers::{fitness_kind, fraction, share};
+use crate::value_parsers::{budget_duration, fitness_kind, fraction, share};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::{CurvatureRoad, DriverConfig, DriverKind, FitnessKind, SimConfig};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Duration;
-use wogan_core::{Algorithm, Budget, RunConfig, WoganConfig};
+use wogan_core::{Algorithm, Budget, RunConfig, SbstBudget, WoganConfig};
 
 /// Options of `wogan run`.
 #[derive(Debug, Args)]
@@ -28,7 +28,15 @@ pub struct RunArgs {
     /// Wall-clock budget of the whole run, e.g. 30s, 10m, 3h.
     #[arg(long, value_parser = humantime::parse_duration, allow_hyphen_values = true)]
     pub budget: Option<Duration>,
-    /// Most tests to execute [default: 300 when there is no --budget].
+    /// The SBST competition's generation budget: real time spent between tests (choosing,
+    /// validating, training), seconds or e.g. 1h. Goes with --execution-budget.
+    #[arg(long, value_parser = budget_duration, requires = "execution_budget", conflicts_with = "budget", allow_hyphen_values = true)]
+    pub generation_budget: Option<Duration>,
+    /// The SBST competition's execution budget: simulated driving time, seconds or e.g. 2h.
+    /// Goes with --generation-budget.
+    #[arg(long, value_parser = budget_duration, requires = "generation_budget", conflicts_with = "budget", allow_hyphen_values = true)]
+    pub execution_budget: Option<Duration>,
+    /// Most tests to execute [default: 300 when there is no other budget].
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..), allow_negative_numbers = true)]
     pub max_tests: Option<u64>,
     /// Seed of every random choice.
@@ -112,6 +120,12 @@ pub struct RunSettings {
     pub max_tests: Option<u64>,
     /// Wall-clock budget, seconds.
     pub budget_s: Option<f64>,
+    /// The SBST competition's generation budget (real time), seconds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub generation_budget_s: Option<f64>,
+    /// The SBST competition's execution budget (simulated time), seconds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub execution_budget_s: Option<f64>,
     /// Tests simulated at once where they are independent.
     pub jobs: u32,
     /// Curvature values per road.
@@ -224,9 +238,17 @@ impl RunPlan {
         search.validate().context("invalid search settings")?;
         sim.validate().context("invalid simulation settings")?;
         driver.validate().context("invalid driver settings")?;
+        let sbst = match (args.generation_budget, args.execution_budget) {
+            (Some(generation), Some(execution)) => Some(SbstBudget {
+                generation,
+                execution_s: execution.as_secs_f64(),
+            }),
+            _ => None,
+        };
         let budget = Budget {
             max_tests: args.max_tests.map(|n| n as usize),
             wall: args.budget,
+            sbst,
         }
         .effective();
         Ok(Self {
@@ -236,6 +258,8 @@ impl RunPlan {
             settings: RunSettings {
                 max_tests: budget.max_tests.map(|n| n as u64),
                 budget_s: budget.wall.map(|d| d.as_secs_f64()),
+                generation_budget_s: sbst.map(|b| b.generation.as_secs_f64()),
+                execution_budget_s: sbst.map(|b| b.execution_s),
                 jobs: args.jobs,
                 curvature_points: args.curvature_points,
                 road: CurvatureRoad {

@@ -11,6 +11,7 @@
 //! a non-finite number as `null`, which reads back as NaN. Fields added after a record was first
 //! written are optional when read, so that older run files stay readable.
 
+use crate::sbst_format::ExecutionRecord;
 use driver_training::{CloningConfig, CloningReport};
 use road_sim::road::Point;
 use road_sim::{DriverKind, FitnessKind, Outcome, Reason, Sample, SimResult};
@@ -86,9 +87,19 @@ pub struct TestRecord {
     /// Valid candidates the analyzer ranked to choose it (absent in runs before it was written).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ranked_candidates: Option<usize>,
-    /// Time spent choosing the test, milliseconds.
+    /// Time spent choosing the test, milliseconds (validity checks included, training
+    /// excluded: the paper's efficiency).
     #[serde(deserialize_with = "nan_for_null")]
     pub generation_ms: f64,
+    /// The generation time the SBST competition charges for the test, milliseconds: real time
+    /// from the end of the previous test's execution (or the start of the run) to the start of
+    /// this one, training included (absent in runs before it was written).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sbst_generation_ms: Option<f64>,
+    /// Whether the test ended with an SBST budget spent: executed and reported, but not kept by
+    /// the competition, and not counted in this run's results.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub beyond_budget: bool,
     /// The road and its drive.
     #[serde(flatten)]
     pub execution: RoadExecution,
@@ -171,6 +182,16 @@ pub struct SummaryRecord {
     pub training_s: f64,
     /// Time spent simulating, seconds.
     pub simulation_s: f64,
+    /// The SBST competition's generation time, seconds (the budget's use).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sbst_generation_s: Option<f64>,
+    /// Simulated time of every executed test, seconds (the execution budget's use, the test
+    /// beyond the budget included).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub execution_time_s: Option<f64>,
+    /// Tests executed beyond an SBST budget and not kept (0 or 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beyond_budget: Option<usize>,
     /// Median pairwise distance of the failing roads' heading profiles.
     pub diversity: Option<f64>,
     /// Which pairs the diversity was measured on.
@@ -202,6 +223,9 @@ pub enum ResultRecord {
         /// The drive.
         #[serde(flatten)]
         result: SimResult,
+        /// The drive's records in the SBST pipeline's layout, when asked for.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        execution_data: Option<Vec<ExecutionRecord>>,
     },
     /// The road is invalid and was not driven.
     Invalid {
@@ -301,15 +325,18 @@ mod tests {
             r#"{"type":"header","version":"0.1.0","seed":7,"algorithm":"wogan","oracle":"dave2-proxy","fitness":"distance","config":{"jobs":1}}"#,
         );
         round_trips(
-            r#"{"type":"test","id":3,"phase":"wogan","fitness":0.25,"predicted_fitness":0.5,"invalid_candidates":2,"ranked_candidates":9,"generation_ms":1.5,"curvature":[0.01,-0.02],"road_points":[[100.0,10.0],[100.0,25.0],[101.0,40.0]],"outcome":"FAIL","reason":"out_of_lane","max_bolp":0.9,"min_lane_distance_m":-0.1,"fitness_distance":0.73,"sim_time_s":12.5,"execution_ms":4.0,"MAX_CURV":0.05,"DIR_COV":0.2,"STD_SA":3.0,"MEAN_LP":1.2,"MAX_LP":2.0}"#,
+            r#"{"type":"test","id":3,"phase":"wogan","fitness":0.25,"predicted_fitness":0.5,"invalid_candidates":2,"ranked_candidates":9,"generation_ms":1.5,"sbst_generation_ms":20.5,"beyond_budget":true,"curvature":[0.01,-0.02],"road_points":[[100.0,10.0],[100.0,25.0],[101.0,40.0]],"outcome":"FAIL","reason":"out_of_lane","max_bolp":0.9,"min_lane_distance_m":-0.1,"fitness_distance":0.73,"sim_time_s":12.5,"execution_ms":4.0,"MAX_CURV":0.05,"DIR_COV":0.2,"STD_SA":3.0,"MEAN_LP":1.2,"MAX_LP":2.0,"oob":{"t_s":12.5,"x":104.5,"y":38.0,"side":"right","sbst_side":"RIGHT"}}"#,
         );
         round_trips(
             r#"{"type":"train","analyzer_loss":0.5,"critic_loss":8.2,"gradient_penalty":8.3,"generator_loss":0.1,"wasserstein_estimate":0.01,"train_ms":20.5,"tests":8}"#,
         );
         round_trips(
-            r#"{"type":"summary","executed":40,"failed":13,"invalid_candidates":197,"wall_s":9.5,"generation_s":1.0,"training_s":0.5,"simulation_s":8.0,"diversity":9.25,"diversity_pairs":"all","interrupted":false}"#,
+            r#"{"type":"summary","executed":40,"failed":13,"invalid_candidates":197,"wall_s":9.5,"generation_s":1.0,"training_s":0.5,"simulation_s":8.0,"sbst_generation_s":1.5,"execution_time_s":400.5,"beyond_budget":0,"diversity":9.25,"diversity_pairs":"all","interrupted":false}"#,
         );
         round_trips(r#"{"type":"error","line":4,"error":"not JSON"}"#);
+        round_trips(
+            r#"{"type":"result","line":1,"outcome":"PASS","reason":null,"max_bolp":0.1,"min_lane_distance_m":1.5,"fitness_distance":0.2,"sim_time_s":0.5,"execution_ms":1.0,"MAX_CURV":0.0,"DIR_COV":0.04,"STD_SA":0.0,"MEAN_LP":1.9,"MAX_LP":1.9,"oob":null,"execution_data":[[0.5,[102.0,11.0,-28.0],[0.0,1.0,0.0],[0.0,5.0,0.0],0.0,0.0,0.0,0.0,0.5,0.5,5.0,18,false,0,0.0,1.9,0.1]]}"#,
+        );
         round_trips(
             r#"{"type":"result","line":2,"outcome":"INVALID","reason":"too_sharp","message":"The road is too sharp"}"#,
         );

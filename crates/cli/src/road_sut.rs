@@ -63,6 +63,8 @@ impl Sut for RoadSut<'_> {
         }
         Some(Execution {
             fitness: self.fitness.of(&result, &self.sim),
+            // The competition charges a test's simulated time to its execution budget.
+            execution_time_s: result.sim_time_s,
             output: RoadExecution {
                 curvature,
                 road_points,

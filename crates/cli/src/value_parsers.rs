@@ -15,6 +15,28 @@ pub fn step_length_m(text: &str) -> Result<f64, String> {
     within(text, "metres", 1000.0)
 }
 
+/// Longest SBST budget: 100 days, far beyond any competition's, so that a typo cannot start a
+/// run that never ends.
+pub const MAX_SBST_BUDGET_S: u64 = 100 * 24 * 3600;
+
+/// A budget as the competition's pipeline takes it (whole seconds) or as a duration (`90s`,
+/// `1h`): above 0 and at most [`MAX_SBST_BUDGET_S`].
+pub fn budget_duration(text: &str) -> Result<std::time::Duration, String> {
+    let parsed = match text.parse::<u64>() {
+        Ok(seconds) => Ok(std::time::Duration::from_secs(seconds)),
+        Err(_) => humantime::parse_duration(text).map_err(|e| e.to_string()),
+    };
+    match parsed {
+        Ok(d) if !d.is_zero() && d.as_secs_f64() <= MAX_SBST_BUDGET_S as f64 => Ok(d),
+        Ok(_) => Err(format!(
+            "expected a budget above 0 and at most {MAX_SBST_BUDGET_S} s (100 days), got {text:?}"
+        )),
+        Err(e) => Err(format!(
+            "expected seconds (600) or a duration (10m, 2h), got {text:?}: {e}"
+        )),
+    }
+}
+
 /// A number above 0 and at most `max`.
 fn within(text: &str, unit: &str, max: f64) -> Result<f64, String> {
     match text.parse::<f64>() {

@@ -8,7 +8,8 @@
 //! - [`vision`]: the camera's view of a road and DAVE-2's network;
 //! - [`sim`]: one drive, a car in a rapier3d world steered by a [`Driver`] and watched by the
 //!   lane monitor, ending in a [`SimResult`];
-//! - [`driver`]: the drivers under test, each with its preset and tuning.
+//! - [`driver`]: the drivers under test, each with its preset and tuning;
+//! - [`oob`]: the SBST competition's analysis of out-of-bound episodes (sides, sparseness).
 //!
 //! ```
 //! use road_sim::driver::{DriverConfig, DriverKind};
@@ -23,6 +24,7 @@
 //! ```
 
 pub mod driver;
+pub mod oob;
 pub mod road;
 pub mod settings;
 pub mod sim;
@@ -33,6 +35,7 @@ pub use driver::{DriverConfig, DriverKind};
 pub use road::{CurvatureRoad, Point, Road, RoadFeatures};
 pub use settings::SettingsError;
 pub use sim::{
-    simulate, Driver, FitnessKind, Observation, Outcome, Sample, SimConfig, SimResult, StopReason,
+    simulate, Driver, FitnessKind, LaneExit, LaneSide, Observation, Outcome, Sample, SimConfig,
+    SimResult, StopReason,
 };
 pub use validator::{Reason, Validator, Verdict};

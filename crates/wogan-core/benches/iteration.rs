@@ -25,6 +25,7 @@ impl Sut for Synthetic {
         let d2: f32 = t.iter().map(|v| (v - 0.4).powi(2)).sum();
         Some(Execution {
             fitness: f64::from((-d2).exp()),
+            execution_time_s: 0.0,
             output: (),
         })
     }

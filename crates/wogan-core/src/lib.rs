@@ -23,12 +23,12 @@
 //!     fn dim(&self) -> usize { 3 }
 //!     fn is_valid(&self, t: &[f32]) -> bool { t[0] <= 0.5 }
 //!     fn execute(&self, t: &[f32]) -> Option<Execution<()>> {
-//!         Some(Execution { fitness: f64::from((t[1] + 1.0) / 2.0), output: () })
+//!         Some(Execution { fitness: f64::from((t[1] + 1.0) / 2.0), execution_time_s: 0.0, output: () })
 //!     }
 //! }
 //!
 //! let config = RunConfig { algorithm: Algorithm::Random, ..RunConfig::default() };
-//! let budget = Budget { max_tests: Some(5), wall: None };
+//! let budget = Budget { max_tests: Some(5), ..Budget::default() };
 //! let stop = AtomicBool::new(false);
 //! let mut lines = Vec::new();
 //! let summary = run(&Half, &config, budget, 42, &stop, &mut |e: Event<()>| {
@@ -116,7 +116,7 @@ mod wogan;
 mod stgem_parity;
 
 pub use bins::{biased_batch, bin_of, bin_weights, BatchDraws, RngDraws};
-pub use budget::Budget;
+pub use budget::{Budget, SbstBudget, SbstUsage};
 pub use config::{
     limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, RunConfig, SamplerConfig,
     WganConfig, WoganConfig,

@@ -4,6 +4,11 @@
 //! for the first `init_fraction` of the schedule, then retrains every `train_every` tests and
 //! executes the test the networks propose. `stop` is checked between tests, so a Ctrl-C handler
 //! that sets it ends the run after the current test with everything so far reported.
+//!
+//! Every run keeps the SBST competition's accounting ([`SbstBudget`](crate::SbstBudget)): each test is charged the
+//! real time since the previous test's execution ended, and its execution time. Under an
+//! [`SbstBudget`](crate::SbstBudget) a test that ends with either budget spent is reported with `beyond_budget`
+//! set, is not learnt from, and ends the run, as the competition's pipeline discards it.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -12,7 +17,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
 use serde::{Deserialize, Serialize};
 
-use crate::budget::Budget;
+use crate::budget::{Budget, SbstUsage};
 use crate::config::{Algorithm, RunConfig};
 use crate::error::Error;
 use crate::random::{execute_all, sample_tests};
@@ -69,6 +74,15 @@ pub enum Event<O> {
         ranked_candidates: usize,
         /// Time spent choosing this test (validity checks included, training excluded).
         generation_ms: f64,
+        /// Generation time the SBST competition charges for this test: real time from the end of
+        /// the previous test's execution (or the start of the run) to the start of this one,
+        /// training included.
+        sbst_generation_ms: f64,
+        /// Time the execution charged to an execution budget, seconds.
+        execution_time_s: f64,
+        /// Whether the test ended with an [`SbstBudget`](crate::SbstBudget) spent: the competition does not keep it,
+        /// and the run ends.
+        beyond_budget: bool,
         /// The SUT's report.
         output: O,
     },
@@ -108,6 +122,12 @@ pub struct Summary {
     pub wall_s: f64,
     /// Whether `stop` ended the run before the budget did.
     pub stopped_by_signal: bool,
+    /// Generation time the SBST competition charged, seconds (every test handed to execution).
+    pub sbst_generation_s: f64,
+    /// Execution time charged, seconds (simulated for a simulator; every executed test).
+    pub execution_time_s: f64,
+    /// Tests executed but not kept because they ended with an [`SbstBudget`](crate::SbstBudget) spent (0 or 1).
+    pub beyond_budget: usize,
 }
 
 struct Runner<'a> {
@@ -115,11 +135,58 @@ struct Runner<'a> {
     stop: &'a AtomicBool,
     start: Instant,
     summary: Summary,
+    /// The SBST budgets used so far.
+    used: SbstUsage,
+    /// When the current test's generation began (the end of the previous test's execution).
+    generation_clock: Instant,
+}
+
+/// What handing a test to execution charged.
+struct Charge {
+    generation_s: f64,
+    execution_time_s: f64,
+    beyond_budget: bool,
 }
 
 impl Runner<'_> {
     fn elapsed(&self) -> Duration {
         self.start.elapsed()
+    }
+
+    /// The generation time of the test being handed over now: since the generation clock began.
+    fn generation_gap_s(&self) -> f64 {
+        self.generation_clock.elapsed().as_secs_f64()
+    }
+
+    /// Whether a test charged `generation_s` may still be executed (the competition's check
+    /// before execution: simulated time remains). Charges the generation time.
+    fn hand_over(&mut self, generation_s: f64) -> bool {
+        self.used.generation += Duration::from_secs_f64(generation_s.max(0.0));
+        self.summary.sbst_generation_s += generation_s.max(0.0);
+        self.budget
+            .sbst
+            .is_none_or(|b| b.can_run_a_test(&self.used))
+    }
+
+    /// Charges an executed test's execution time; the test is beyond the budget when a budget
+    /// is now spent.
+    fn charge(&mut self, generation_s: f64, execution_time_s: f64) -> Charge {
+        self.used.execution_s += execution_time_s;
+        self.summary.execution_time_s += execution_time_s;
+        let beyond_budget = self.budget.sbst.is_some_and(|b| b.is_over(&self.used));
+        if beyond_budget {
+            self.summary.beyond_budget += 1;
+        }
+        Charge {
+            generation_s,
+            execution_time_s,
+            beyond_budget,
+        }
+    }
+
+    /// The next test's generation begins now.
+    fn restart_generation_clock(&mut self) {
+        self.generation_clock = Instant::now();
     }
 
     /// Whether the run must end now (and why, recorded in the summary).
@@ -128,7 +195,8 @@ impl Runner<'_> {
             self.summary.stopped_by_signal = true;
             return true;
         }
-        self.budget.exhausted(self.summary.executed, self.elapsed())
+        self.budget
+            .exhausted(self.summary.executed, self.elapsed(), &self.used)
     }
 
     fn remaining_tests(&self) -> usize {
@@ -138,9 +206,44 @@ impl Runner<'_> {
     }
 }
 
+/// How a test was chosen, for its event.
+struct Proposal {
+    predicted_fitness: Option<f64>,
+    invalid_candidates: usize,
+    ranked_candidates: usize,
+    generation_s: f64,
+}
+
+/// The event of an executed test.
+fn test_event<O>(
+    id: usize,
+    phase: Phase,
+    test: Vec<f32>,
+    fitness: f64,
+    proposal: Proposal,
+    charge: &Charge,
+    output: O,
+) -> Event<O> {
+    Event::Test {
+        id,
+        phase,
+        test,
+        fitness,
+        predicted_fitness: proposal.predicted_fitness,
+        invalid_candidates: proposal.invalid_candidates,
+        ranked_candidates: proposal.ranked_candidates,
+        generation_ms: proposal.generation_s * 1e3,
+        sbst_generation_ms: charge.generation_s * 1e3,
+        execution_time_s: charge.execution_time_s,
+        beyond_budget: charge.beyond_budget,
+        output,
+    }
+}
+
 /// Runs one search.
 ///
-/// `budget` limits tests and/or wall time (with neither, 300 tests). All random choices flow from
+/// `budget` limits tests, wall time and/or the SBST budgets (with none, 300 tests). All random
+/// choices flow from
 /// `seed`. Events are passed to `on_event` in order as they happen; the returned summary holds
 /// the totals. Errors: an invalid configuration, a SUT of dimension 0, or a sampler that finds no
 /// valid test.
@@ -173,7 +276,9 @@ pub fn run<S: Sut + ?Sized>(
     let mut rng = ChaCha20Rng::seed_from_u64(seed);
     let budget = budget.effective();
     let start = Instant::now();
-    // A long search for a valid test looks at the stop flag and the clock now and then.
+    // A long search for a valid test looks at the stop flag and the clock now and then. (Not at
+    // the generation budget: the competition lets a generator finish the test in hand, then
+    // executes and discards it; the sampler's attempt limit bounds the search.)
     let go_on = || !stop.load(Ordering::Relaxed) && budget.wall.is_none_or(|w| start.elapsed() < w);
     let sampler = Sampler::new(dim, config.sampler.clone()).interruptible(&go_on);
     let mut r = Runner {
@@ -181,6 +286,8 @@ pub fn run<S: Sut + ?Sized>(
         stop,
         start,
         summary: Summary::default(),
+        used: SbstUsage::default(),
+        generation_clock: start,
     };
     let w = &config.wogan;
 
@@ -192,7 +299,8 @@ pub fn run<S: Sut + ?Sized>(
         }
         let (elapsed, done) = (r.elapsed(), r.summary.executed);
         if config.algorithm == Algorithm::Wogan
-            && r.budget.initial_phase_over(w.init_fraction, done, elapsed)
+            && r.budget
+                .initial_phase_over(w.init_fraction, done, elapsed, &r.used)
         {
             break;
         }
@@ -209,31 +317,54 @@ pub fn run<S: Sut + ?Sized>(
             Err(Error::Interrupted) => continue,
             Err(error) => return Err(error),
         };
+        // Tests sampled together are charged in test order: each its own sampling time, the
+        // first also the rest of the time since the previous execution ended.
+        let gap_s = r.generation_gap_s();
+        let later_s: f64 = sampled.iter().skip(1).map(|s| s.generation_s).sum();
         let t0 = Instant::now();
         let results = execute_all(sut, &sampled, pool.as_ref());
         r.summary.simulation_s += t0.elapsed().as_secs_f64();
-        for (s, e) in sampled.into_iter().zip(results) {
+        for (i, (s, e)) in sampled.into_iter().zip(results).enumerate() {
             // Cut short by a stop: the loop's next check ends the run.
             let Some(e) = e else { continue };
+            let generation_s = if i == 0 {
+                (gap_s - later_s).max(s.generation_s)
+            } else {
+                s.generation_s
+            };
+            if !r.hand_over(generation_s) {
+                // The competition would not have executed this test, nor any after it.
+                break;
+            }
+            let charge = r.charge(generation_s, e.execution_time_s);
             let fitness = clamp_fitness(e.fitness);
-            r.summary.executed += 1;
             r.summary.invalid_candidates += s.invalid;
             r.summary.generation_s += s.generation_s;
-            if config.algorithm == Algorithm::Wogan {
-                executed_tests.push((s.test.clone(), fitness));
+            if !charge.beyond_budget {
+                r.summary.executed += 1;
+                if config.algorithm == Algorithm::Wogan {
+                    executed_tests.push((s.test.clone(), fitness));
+                }
             }
-            on_event(Event::Test {
-                id: r.summary.executed,
-                phase: Phase::Random,
-                test: s.test,
+            on_event(test_event(
+                r.summary.executed + usize::from(charge.beyond_budget),
+                Phase::Random,
+                s.test,
                 fitness,
-                predicted_fitness: None,
-                invalid_candidates: s.invalid,
-                ranked_candidates: 0,
-                generation_ms: s.generation_s * 1e3,
-                output: e.output,
-            });
+                Proposal {
+                    predicted_fitness: None,
+                    invalid_candidates: s.invalid,
+                    ranked_candidates: 0,
+                    generation_s: s.generation_s,
+                },
+                &charge,
+                e.output,
+            ));
+            if charge.beyond_budget {
+                break;
+            }
         }
+        r.restart_generation_clock();
     }
 
     if config.algorithm == Algorithm::Wogan && !r.should_stop() {
@@ -250,6 +381,7 @@ pub fn run<S: Sut + ?Sized>(
                     w.alpha_max,
                     r.summary.executed,
                     r.elapsed(),
+                    &r.used,
                 );
                 let t0 = Instant::now();
                 let stats = model.train(alpha, &mut rng)?;
@@ -288,6 +420,10 @@ pub fn run<S: Sut + ?Sized>(
                 Err(error) => return Err(error),
             };
             let generation_s = t0.elapsed().as_secs_f64();
+            let gap_s = r.generation_gap_s();
+            if !r.hand_over(gap_s) {
+                break;
+            }
             let t1 = Instant::now();
             let e = sut.execute(&p.test);
             r.summary.simulation_s += t1.elapsed().as_secs_f64();
@@ -296,27 +432,37 @@ pub fn run<S: Sut + ?Sized>(
                 r.summary.stopped_by_signal = true;
                 break;
             };
+            let charge = r.charge(gap_s, e.execution_time_s);
             let fitness = clamp_fitness(e.fitness);
-            model.add(&p.test, fitness);
-            since_train += 1;
-            r.summary.executed += 1;
             r.summary.invalid_candidates += p.invalid;
             r.summary.generation_s += generation_s;
-            on_event(Event::Test {
-                id: r.summary.executed,
-                phase: if p.mutant {
+            if !charge.beyond_budget {
+                model.add(&p.test, fitness);
+                since_train += 1;
+                r.summary.executed += 1;
+            }
+            on_event(test_event(
+                r.summary.executed + usize::from(charge.beyond_budget),
+                if p.mutant {
                     Phase::Mutant
                 } else {
                     Phase::Wogan
                 },
-                test: p.test,
+                p.test,
                 fitness,
-                predicted_fitness: p.predicted,
-                invalid_candidates: p.invalid,
-                ranked_candidates: p.ranked,
-                generation_ms: generation_s * 1e3,
-                output: e.output,
-            });
+                Proposal {
+                    predicted_fitness: p.predicted,
+                    invalid_candidates: p.invalid,
+                    ranked_candidates: p.ranked,
+                    generation_s,
+                },
+                &charge,
+                e.output,
+            ));
+            if charge.beyond_budget {
+                break;
+            }
+            r.restart_generation_clock();
         }
     }
     r.summary.wall_s = r.elapsed().as_secs_f64();
@@ -326,7 +472,7 @@ pub fn run<S: Sut + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Execution;
+    use crate::{Execution, SbstBudget};
 
     /// Fitness: a bump around a valid point; validity: a half-space through the bump's edge.
     struct Bump;
@@ -344,6 +490,7 @@ mod tests {
             let d2: f32 = t.iter().zip(CENTRE).map(|(a, b)| (a - b).powi(2)).sum();
             Some(Execution {
                 fitness: f64::from((-d2 / 0.5).exp()),
+                execution_time_s: 10.0,
                 output: d2,
             })
         }
@@ -377,6 +524,7 @@ mod tests {
         let budget = Budget {
             max_tests: Some(200),
             wall: None,
+            sbst: None,
         };
         let wogan = RunConfig::default();
         let random = RunConfig {
@@ -412,6 +560,7 @@ mod tests {
         let budget = Budget {
             max_tests: Some(30),
             wall: None,
+            sbst: None,
         };
         let (a, sa) = collect(&config, budget, 9);
         let (b, _) = collect(&config, budget, 9);
@@ -445,6 +594,7 @@ mod tests {
         let budget = Budget {
             max_tests: Some(12),
             wall: None,
+            sbst: None,
         };
         let (events, _) = collect(&RunConfig::default(), budget, 3);
         let lines: Vec<String> = events
@@ -469,6 +619,7 @@ mod tests {
         fn execute(&self, t: &[f32]) -> Option<Execution<()>> {
             Some(Execution {
                 fitness: f64::from(t[0]) * 2.0, // partly outside [0, 1]: clamped
+                execution_time_s: 0.0,
                 output: (),
             })
         }
@@ -488,6 +639,7 @@ mod tests {
             let budget = Budget {
                 max_tests: Some(5),
                 wall: None,
+                sbst: None,
             };
             let mut phases = Vec::new();
             let s = run(&Line, &config, budget, 1, &stop, &mut |e| {
@@ -504,6 +656,7 @@ mod tests {
         let zero = Budget {
             max_tests: Some(0),
             wall: None,
+            sbst: None,
         };
         let s = run(&Line, &RunConfig::default(), zero, 1, &stop, &mut |_| {}).unwrap();
         assert_eq!(s.executed, 0);
@@ -514,6 +667,7 @@ mod tests {
         let budget = Budget {
             max_tests: Some(25),
             wall: None,
+            sbst: None,
         };
         let serial = RunConfig {
             algorithm: Algorithm::Random,
@@ -558,11 +712,104 @@ mod tests {
         let budget = Budget {
             max_tests: None,
             wall: Some(Duration::from_millis(300)),
+            sbst: None,
         };
         let (_, s) = collect(&RunConfig::default(), budget, 2);
         assert!(s.executed > 0);
         assert!(!s.stopped_by_signal);
         assert!(s.wall_s < 5.0);
+    }
+
+    /// The test events of a run: (id, beyond_budget, execution_time_s).
+    fn charged(events: &[Event<f32>]) -> Vec<(usize, bool, f64)> {
+        events
+            .iter()
+            .filter_map(|e| match e {
+                Event::Test {
+                    id,
+                    beyond_budget,
+                    execution_time_s,
+                    ..
+                } => Some((*id, *beyond_budget, *execution_time_s)),
+                Event::Train { .. } => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn an_execution_budget_ends_the_run_as_the_pipeline_does() {
+        // Each Bump test takes 10 simulated seconds: five fit in 55 s, the sixth ends with the
+        // budget spent, is reported beyond it and is not kept.
+        // With several jobs the random phase runs tests at once; they are charged in test order.
+        for (algorithm, jobs) in [
+            (Algorithm::Random, 1),
+            (Algorithm::Random, 4),
+            (Algorithm::Wogan, 1),
+            (Algorithm::Wogan, 3),
+        ] {
+            let config = RunConfig {
+                algorithm,
+                jobs,
+                ..RunConfig::default()
+            };
+            let budget = Budget {
+                sbst: Some(SbstBudget {
+                    generation: Duration::from_secs(3600),
+                    execution_s: 55.0,
+                }),
+                ..Budget::default()
+            };
+            let (events, summary) = collect(&config, budget, 4);
+            let tests = charged(&events);
+            assert_eq!(tests.len(), 6, "{algorithm:?}, {jobs} jobs");
+            let ids: Vec<usize> = tests.iter().map(|&(id, _, _)| id).collect();
+            assert_eq!(ids, [1, 2, 3, 4, 5, 6]);
+            assert!(tests[..5].iter().all(|&(_, beyond, _)| !beyond));
+            assert_eq!(tests[5], (6, true, 10.0));
+            assert_eq!(summary.executed, 5);
+            assert_eq!(summary.beyond_budget, 1);
+            assert_eq!(summary.execution_time_s, 60.0);
+            assert!(summary.sbst_generation_s > 0.0);
+        }
+    }
+
+    #[test]
+    fn a_spent_generation_budget_discards_the_test_in_hand() {
+        // The first test's generation already spends a budget of one nanosecond: the pipeline
+        // still executes it (simulated time remains), then discards it and ends the run.
+        let budget = Budget {
+            sbst: Some(SbstBudget {
+                generation: Duration::from_nanos(1),
+                execution_s: 1000.0,
+            }),
+            ..Budget::default()
+        };
+        let (events, summary) = collect(&RunConfig::default(), budget, 1);
+        assert_eq!(charged(&events), vec![(1, true, 10.0)]);
+        assert_eq!(summary.executed, 0);
+    }
+
+    #[test]
+    fn sbst_runs_are_reproducible_when_the_execution_budget_binds() {
+        let budget = Budget {
+            sbst: Some(SbstBudget {
+                generation: Duration::from_secs(3600),
+                execution_s: 205.0,
+            }),
+            ..Budget::default()
+        };
+        let tests = |(events, _): (Vec<Event<f32>>, Summary)| -> Vec<Vec<f32>> {
+            events
+                .into_iter()
+                .filter_map(|e| match e {
+                    Event::Test { test, .. } => Some(test),
+                    Event::Train { .. } => None,
+                })
+                .collect()
+        };
+        let a = tests(collect(&RunConfig::default(), budget, 8));
+        assert_eq!(a.len(), 21);
+        assert_eq!(a, tests(collect(&RunConfig::default(), budget, 8)));
     }
 
     /// A SUT whose `n`-th execution is cut short by a stop raised during it.
@@ -588,6 +835,7 @@ mod tests {
             }
             Some(Execution {
                 fitness: 0.5,
+                execution_time_s: 0.0,
                 output: call,
             })
         }
@@ -609,6 +857,7 @@ mod tests {
             let budget = Budget {
                 max_tests: Some(300),
                 wall: None,
+                sbst: None,
             };
             let mut outputs = Vec::new();
             let summary = run(&sut, &config, budget, 1, &stop, &mut |e| {

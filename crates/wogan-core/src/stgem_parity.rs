@@ -414,6 +414,7 @@ fn training_batches_match_stgem_given_its_draws() {
     let budget = Budget {
         max_tests: Some(300),
         wall: None,
+        sbst: None,
     };
     let w = RunConfig::default().wogan;
     let rounds = v["training_rounds"].as_array().unwrap();
@@ -421,7 +422,13 @@ fn training_batches_match_stgem_given_its_draws() {
     for (r, round) in rounds.iter().enumerate() {
         let executed = round["executed"].as_u64().unwrap() as usize;
         let shift = round["shift"].as_f64().unwrap();
-        let alpha = budget.alpha(w.init_fraction, w.alpha_max, executed, Default::default());
+        let alpha = budget.alpha(
+            w.init_fraction,
+            w.alpha_max,
+            executed,
+            Default::default(),
+            &Default::default(),
+        );
         assert!((alpha - shift).abs() < 1e-12, "α {alpha} vs shift {shift}");
         let bin_of_test: Vec<usize> = fitness[..executed]
             .iter()

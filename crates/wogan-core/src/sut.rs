@@ -6,6 +6,9 @@
 pub struct Execution<O> {
     /// Fitness in `[0, 1]`, higher = closer to failure. Values outside are clamped (NaN counts as 0).
     pub fitness: f64,
+    /// Time the execution charges to an execution budget, seconds: simulated seconds for a
+    /// simulator (the SBST competition's accounting), 0 for a SUT without such a clock.
+    pub execution_time_s: f64,
     /// SUT-specific report, passed through to the caller untouched.
     pub output: O,
 }

@@ -318,6 +318,7 @@ mod tests {
         fn execute(&self, _: &[f32]) -> Option<Execution<()>> {
             Some(Execution {
                 fitness: 0.5,
+                execution_time_s: 0.0,
                 output: (),
             })
         }
@@ -395,6 +396,7 @@ mod tests {
         fn execute(&self, _: &[f32]) -> Option<Execution<()>> {
             Some(Execution {
                 fitness: 0.0,
+                execution_time_s: 0.0,
                 output: (),
             })
         }

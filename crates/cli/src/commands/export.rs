@@ -1,24 +1,31 @@
-//! `wogan export --format sbst`: a run in the SBST competition's result layout, one
-//! `test.NNNN.json` per executed test (without `execution_data`) and `generation_stats.csv`.
+//! `wogan export --format sbst`: a run in the SBST competition's result layout, as its pipeline
+//! writes it: one `test.NNNN.json` per kept test with its `execution_data`, `generation_stats.csv`
+//! and `oob_stats.csv` (the pipeline's `OOBAnalyzer` summary).
+//!
+//! The execution records come from driving each test again with the run's settings (its header)
+//! and checking that the drive replays the recorded one exactly; a run that does not replay is
+//! refused, naming the test, rather than exported with records of another drive.
 //!
 //! The directory written to must be new or empty, so that an export is never mixed with files
 //! of another (an earlier, longer export's `test.0031.json` would read as part of this one).
 //! `--force` replaces an earlier export, and removes nothing else. The run file must not be in
 //! that directory, where the export could write over it.
 
-use crate::records::{known, TestRecord};
-use crate::report::run_file::{read_run, RunFile};
+use crate::driver_options::driver_config;
+use crate::records::TestRecord;
+use crate::report::run_file::{read_run, RunFile, RunHeader};
+use crate::report::sbst_metrics::oob_summary;
+use crate::sbst_format::{description, execution_data, CompetitionTest, Features, GenerationStats};
 use crate::Status;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use road_sim::{Outcome, Point, Road, Validator};
-use serde::Serialize;
+use road_sim::{simulate, DriverConfig, Road, SimConfig, SimResult, Validator};
 use std::path::{Path, PathBuf};
 
 /// The layouts `wogan export` writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ExportFormat {
-    /// The SBST tool competition's results: test.NNNN.json and generation_stats.csv.
+    /// The SBST tool competition's results: test.NNNN.json, generation_stats.csv, oob_stats.csv.
     Sbst,
 }
 
@@ -34,121 +41,20 @@ pub struct ExportArgs {
     /// Directory to write to: new (created) or empty.
     #[arg(value_name = "DIR")]
     pub dir: PathBuf,
-    /// Replace an earlier export in DIR: remove its test.NNNN.json and generation_stats.csv
-    /// first (refused, removing nothing, when DIR holds anything else).
+    /// Replace an earlier export in DIR: remove its test.NNNN.json, generation_stats.csv and
+    /// oob_stats.csv first (refused, removing nothing, when DIR holds anything else).
     #[arg(long)]
     pub force: bool,
+    /// The DAVE-2 weights the run was made with, when not the built-in ones (the header does
+    /// not hold them).
+    #[arg(long, value_name = "FILE")]
+    pub driver_weights: Option<PathBuf>,
 }
 
 /// The file of generation totals.
 const STATS_FILE: &str = "generation_stats.csv";
-
-/// The competition's features of a test.
-#[derive(Debug, Serialize)]
-struct Features {
-    #[serde(rename = "MAX_CURV")]
-    max_curv: Option<f64>,
-    #[serde(rename = "DIR_COV")]
-    dir_cov: Option<f64>,
-    #[serde(rename = "STD_SA")]
-    std_sa: Option<f64>,
-    #[serde(rename = "MEAN_LP")]
-    mean_lp: Option<f64>,
-    #[serde(rename = "MAX_LP")]
-    max_lp: Option<f64>,
-}
-
-/// A competition test object, without `execution_data`.
-#[derive(Debug, Serialize)]
-struct CompetitionTest<'a> {
-    id: usize,
-    road_points: &'a [Point],
-    interpolated_points: Vec<Point>,
-    is_valid: bool,
-    validation_message: &'static str,
-    test_outcome: Outcome,
-    description: String,
-    features: Features,
-}
-
-/// Totals of `generation_stats.csv`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct GenerationStats {
-    /// Valid plus invalid tests generated.
-    pub generated: u64,
-    /// Tests executed (valid).
-    pub valid: u64,
-    /// Invalid candidates rejected.
-    pub invalid: u64,
-    /// Tests that passed.
-    pub passed: u64,
-    /// Tests that failed.
-    pub failed: u64,
-    /// Tests in error.
-    pub in_error: u64,
-    /// Generation wall time including training, seconds.
-    pub generation_s: f64,
-    /// Execution wall time, seconds.
-    pub execution_s: f64,
-    /// Simulated time, seconds.
-    pub simulated_s: f64,
-}
-
-impl GenerationStats {
-    /// Totals of `run`: from its summary where present, else summed from the test records.
-    pub fn of(run: &RunFile) -> Self {
-        let count = |outcome: Outcome| {
-            run.tests
-                .iter()
-                .filter(|t| t.execution.result.outcome == outcome)
-                .count() as u64
-        };
-        let summed =
-            |f: fn(&TestRecord) -> f64| run.tests.iter().filter_map(|t| known(f(t))).sum::<f64>();
-        let (invalid, generation_s, execution_s) = match &run.summary {
-            Some(s) => (
-                s.invalid_candidates as u64,
-                s.generation_s + s.training_s,
-                s.simulation_s,
-            ),
-            None => (
-                run.tests.iter().map(|t| t.invalid_candidates as u64).sum(),
-                (summed(|t| t.generation_ms) + run.train_ms) / 1000.0,
-                summed(|t| t.execution.result.execution_ms) / 1000.0,
-            ),
-        };
-        let valid = run.tests.len() as u64;
-        Self {
-            generated: valid + invalid,
-            valid,
-            invalid,
-            passed: count(Outcome::Pass),
-            failed: count(Outcome::Fail),
-            in_error: count(Outcome::Error),
-            generation_s,
-            execution_s,
-            simulated_s: summed(|t| t.execution.result.sim_time_s),
-        }
-    }
-
-    /// The CSV text: the competition's header and one row of totals.
-    pub fn csv(&self) -> String {
-        format!(
-            "test_generated,test_valid,test_invalid,test_passed,test_failed,test_in_error,\
-             real_time_generation,real_time_execution,simulated_time_execution\n\
-             {},{},{},{},{},{},{},{},{}\n",
-            self.generated,
-            self.valid,
-            self.invalid,
-            self.passed,
-            self.failed,
-            self.in_error,
-            self.generation_s,
-            self.execution_s,
-            self.simulated_s
-        )
-    }
-}
+/// The file of the OOB analysis.
+const OOB_STATS_FILE: &str = "oob_stats.csv";
 
 /// Runs `wogan export`.
 pub fn run(args: &ExportArgs) -> Result<Status> {
@@ -157,18 +63,38 @@ pub fn run(args: &ExportArgs) -> Result<Status> {
     for problem in &run.problems {
         eprintln!("wogan export: {problem}");
     }
+    let Some(header) = &run.header else {
+        bail!(
+            "{} has no header: the export drives each test again with the run's settings, \
+             which the header holds",
+            args.run.display()
+        );
+    };
+    let replay = Replay::of(header, args.driver_weights.as_deref())?;
     prepare_dir(&args.dir, args.force)?;
-    let validator = Validator::default();
-    let seed = run.header.as_ref().and_then(|h| h.seed);
-    for test in &run.tests {
-        write_test(&args.dir, test, &validator, seed)?;
+    let kept = &run.tests;
+    let width = name_width(kept.iter().map(|t| t.id));
+    let validator = Validator::new(header.map_size_m);
+    let mut written = Vec::with_capacity(kept.len());
+    for test in kept {
+        match write_test(&args.dir, width, test, &validator, &replay, header.seed) {
+            Ok(path) => written.push(path),
+            Err(error) => {
+                // A half export would read as a whole one: take back what was written.
+                for path in &written {
+                    let _ = std::fs::remove_file(path);
+                }
+                return Err(error.context("nothing was exported"));
+            }
+        }
     }
     let csv_path = args.dir.join(STATS_FILE);
     std::fs::write(&csv_path, GenerationStats::of(&run).csv())
         .with_context(|| format!("cannot write {}", csv_path.display()))?;
+    write_oob_stats(&args.dir, &run)?;
     eprintln!(
         "wogan export: wrote {} tests to {}",
-        run.tests.len(),
+        kept.len(),
         args.dir.display()
     );
     Ok(if run.problems.is_empty() {
@@ -178,13 +104,78 @@ pub fn run(args: &ExportArgs) -> Result<Status> {
     })
 }
 
+/// How many digits test file names give ids: as many as the largest id needs, and at least the
+/// pipeline's 4, so that file names sort in id order, as the pipeline's analysis reads them.
+fn name_width(ids: impl Iterator<Item = usize>) -> usize {
+    ids.map(|id| id.to_string().len()).max().unwrap_or(0).max(4)
+}
+
+/// Writes `oob_stats.csv` as the pipeline's `create_summary` does; a run the pipeline's analysis
+/// would stop on gets no file and a note on stderr, as the pipeline's would end there.
+fn write_oob_stats(dir: &Path, run: &RunFile) -> Result<()> {
+    let path = dir.join(OOB_STATS_FILE);
+    match oob_summary(run) {
+        Ok(summary) => std::fs::write(&path, road_sim::oob::summary_csv(&summary))
+            .with_context(|| format!("cannot write {}", path.display())),
+        Err(error) => {
+            eprintln!("wogan export: no {OOB_STATS_FILE}: {error}");
+            Ok(())
+        }
+    }
+}
+
+/// What drives a run's tests again: its simulation settings and driver.
+struct Replay {
+    sim: SimConfig,
+    driver: DriverConfig,
+}
+
+impl Replay {
+    /// The settings of the run `header` describes; `weights` are the DAVE-2 weights it used when
+    /// not the built-in ones.
+    fn of(header: &RunHeader, weights: Option<&Path>) -> Result<Self> {
+        let sim = header.config.get("sim").cloned().unwrap_or_default();
+        let sim: SimConfig = serde_path_to_error::deserialize(sim).map_err(|e| {
+            anyhow::anyhow!("the run's header: config.sim.{}: {}", e.path(), e.inner())
+        })?;
+        let tuning = header.config.get("driver");
+        let driver = driver_config(header.oracle, tuning, weights, "config.driver")?;
+        Ok(Self { sim, driver })
+    }
+
+    /// Drives `test` again with samples, checking that the drive is the recorded one.
+    fn drive(&self, test: &TestRecord) -> Result<SimResult> {
+        let road = Road::new(&test.execution.road_points)
+            .with_context(|| format!("test {}: its road points make no road", test.id))?;
+        let replayed = simulate(&road, self.driver.build().as_mut(), &self.sim, true, None);
+        let comparable = |r: &SimResult| {
+            let mut r = r.clone();
+            r.execution_ms = 0.0;
+            r.trace = None;
+            serde_json::to_value(r).unwrap_or_default()
+        };
+        let recorded = comparable(&test.execution.result);
+        if comparable(&replayed) != recorded {
+            bail!(
+                "test {} does not replay: recorded {}, driven again {} (was the run made by \
+                 another wogan version, or with --driver-weights?)",
+                test.id,
+                recorded,
+                comparable(&replayed)
+            );
+        }
+        Ok(replayed)
+    }
+}
+
 /// Whether a file named `name` is one that export writes: `test.NNNN.json` (`NNNN` the test's
-/// id, 4 digits or more) or `generation_stats.csv`.
+/// id, 4 digits or more), `generation_stats.csv` or `oob_stats.csv`.
 fn is_export_file(name: &str) -> bool {
     let id = name
         .strip_prefix("test.")
         .and_then(|rest| rest.strip_suffix(".json"));
     name == STATS_FILE
+        || name == OOB_STATS_FILE
         || id.is_some_and(|id| !id.is_empty() && id.bytes().all(|b| b.is_ascii_digit()))
 }
 
@@ -253,7 +244,7 @@ fn prepare_dir(dir: &Path, force: bool) -> Result<()> {
     if !others.is_empty() {
         bail!(
             "{} holds what export does not write ({}); --force replaces only an earlier \
-             export's test.NNNN.json and {STATS_FILE}, so nothing was removed",
+             export's test.NNNN.json, {STATS_FILE} and {OOB_STATS_FILE}, so nothing was removed",
             dir.display(),
             some_of(&others)
         );
@@ -282,21 +273,28 @@ fn some_of(names: &[String]) -> String {
     }
 }
 
-/// Writes `DIR/test.NNNN.json` for one test.
+/// Writes `DIR/test.NNNN.json` (the id padded to `width` digits) for one test; returns its path.
 fn write_test(
     dir: &Path,
+    width: usize,
     test: &TestRecord,
     validator: &Validator,
+    replay: &Replay,
     seed: Option<u64>,
-) -> Result<()> {
+) -> Result<PathBuf> {
     let road_points = &test.execution.road_points;
     let result = &test.execution.result;
     let verdict = validator.validate(road_points);
     let interpolated_points = Road::new(road_points)
         .map(|r| r.interpolated)
         .unwrap_or_default();
+    let drive = replay.drive(test)?;
+    let samples = drive.trace.as_deref().unwrap_or_default();
+    let max_steering_deg = replay.sim.vehicle.max_steering_rad.to_degrees();
     let phase = test.phase.name();
     let seed = seed.map_or_else(|| "unknown".to_owned(), |s| s.to_string());
+    let name = format!("(wogan test {}, {phase} phase, seed {seed})", test.id);
+    let known = crate::records::known;
     let object = CompetitionTest {
         id: test.id,
         road_points,
@@ -304,7 +302,8 @@ fn write_test(
         is_valid: verdict.is_valid(),
         validation_message: verdict.message(),
         test_outcome: result.outcome,
-        description: format!("wogan test {} ({phase} phase, seed {seed})", test.id),
+        description: description(result, &name),
+        execution_data: execution_data(samples, replay.sim.oob_tolerance, max_steering_deg),
         features: Features {
             max_curv: known(result.max_curv),
             dir_cov: known(result.dir_cov),
@@ -313,9 +312,11 @@ fn write_test(
             max_lp: known(result.max_lp),
         },
     };
-    let path = dir.join(format!("test.{:04}.json", test.id));
+    let path = dir.join(format!("test.{:0width$}.json", test.id));
     let text = serde_json::to_string(&object).context("cannot encode a test as JSON")?;
-    std::fs::write(&path, text + "\n").with_context(|| format!("cannot write {}", path.display()))
+    std::fs::write(&path, text + "\n")
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(path)
 }
 
 #[cfg(test)]
@@ -323,8 +324,22 @@ mod tests {
     use super::*;
 
     #[test]
+    fn names_are_as_wide_as_the_largest_id_and_at_least_four_digits() {
+        assert_eq!(name_width([1, 30].into_iter()), 4);
+        assert_eq!(name_width(std::iter::empty()), 4);
+        assert_eq!(name_width([9_999].into_iter()), 4);
+        assert_eq!(name_width([3, 10_000].into_iter()), 5);
+        assert_eq!(name_width([123_456].into_iter()), 6);
+    }
+
+    #[test]
     fn export_files_are_known_by_name() {
-        for name in ["test.0001.json", "test.12345.json", "generation_stats.csv"] {
+        for name in [
+            "test.0001.json",
+            "test.12345.json",
+            "generation_stats.csv",
+            "oob_stats.csv",
+        ] {
             assert!(is_export_file(name), "{name}");
         }
         for name in [

@@ -56,6 +56,8 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
                     invalid_candidates,
                     ranked_candidates,
                     generation_ms,
+                    sbst_generation_ms,
+                    beyond_budget,
                     output,
                     ..
                 } => {
@@ -67,9 +69,11 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
                         invalid_candidates,
                         ranked_candidates: Some(ranked_candidates),
                         generation_ms,
+                        sbst_generation_ms: Some(sbst_generation_ms),
+                        beyond_budget,
                         execution: output,
                     };
-                    if test.failed() {
+                    if test.failed() && !beyond_budget {
                         failing_profiles.push(heading_profile(&test.execution.interpolated));
                     }
                     progress.test_done(failing_profiles.len());
@@ -117,6 +121,9 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
         generation_s: summary.generation_s,
         training_s: summary.training_s,
         simulation_s: summary.simulation_s,
+        sbst_generation_s: Some(summary.sbst_generation_s),
+        execution_time_s: Some(summary.execution_time_s),
+        beyond_budget: Some(summary.beyond_budget),
         diversity: diversity.median_distance,
         diversity_pairs: diversity.pairs.to_owned(),
         interrupted: summary.stopped_by_signal,
@@ -155,9 +162,11 @@ impl Progress {
             }
             (None, wall) => {
                 let bar = ProgressBar::new_spinner();
-                let limit = wall
-                    .map(|w| humantime::format_duration(w).to_string())
-                    .unwrap_or_default();
+                let limit = match (budget.sbst, wall) {
+                    (Some(b), _) => format!("{} s simulated", b.execution_s),
+                    (None, Some(w)) => humantime::format_duration(w).to_string(),
+                    (None, None) => String::new(),
+                };
                 bar.set_style(
                     ProgressStyle::with_template(&format!(
                         "{{elapsed_precise}} of {limit} {{pos}} tests, {{msg}}"

@@ -5,6 +5,7 @@ use crate::interrupt::stop_flag;
 use crate::json_lines::{open_input, JsonLinesWriter};
 use crate::records::{InvalidOutcome, Record, ResultRecord, TraceRecord};
 use crate::road_lines::{answer_each_road, Answer};
+use crate::sbst_format::execution_data;
 use crate::Status;
 use anyhow::{Context, Result};
 use clap::Args;
@@ -25,6 +26,11 @@ pub struct SimulateArgs {
     /// Write DIR/trace.N.jsonl for input line N: the road, then one sample per oracle step.
     #[arg(long, value_name = "DIR")]
     pub trace: Option<PathBuf>,
+    /// Put the drive's records in each answer as the SBST pipeline stores them
+    /// (`execution_data`: arrays of its 17 `SimulationDataRecord` fields), so that a pipeline
+    /// executor needs nothing else.
+    #[arg(long)]
+    pub execution_data: bool,
 }
 
 /// Runs `wogan simulate`.
@@ -40,6 +46,8 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
     let config = args.driver.sim_config();
     let driver = args.driver.driver_config(None)?;
     config.validate().context("invalid simulation settings")?;
+    let max_steering_deg = config.vehicle.max_steering_rad.to_degrees();
+    let sampled = args.trace.is_some() || args.execution_data;
     answer_each_road(
         input,
         &mut out,
@@ -54,20 +62,25 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
                         &road,
                         driver.build().as_mut(),
                         &config,
-                        args.trace.is_some(),
+                        sampled,
                         Some(&stop),
                     );
                     if result.reason == Some(StopReason::Interrupted) {
                         return Answer::Dropped;
                     }
-                    if let (Some(dir), Some(samples)) = (&args.trace, result.trace.take()) {
+                    let samples = result.trace.take().unwrap_or_default();
+                    if let Some(dir) = &args.trace {
                         if let Err(error) = write_trace(dir, line, &road, &samples) {
                             eprintln!("wogan: line {line}: {error:#}");
                         }
                     }
+                    let execution_data = args
+                        .execution_data
+                        .then(|| execution_data(&samples, config.oob_tolerance, max_steering_deg));
                     Answer::Record(Box::new(Record::Result(ResultRecord::Driven {
                         line,
                         result,
+                        execution_data,
                     })))
                 }
                 (reason, _) => {

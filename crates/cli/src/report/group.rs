@@ -2,8 +2,10 @@
 //! and the competition's feature coverage of the failing tests.
 
 use super::run_file::RunFile;
+use super::sbst_metrics::SbstMeasures;
 use super::stats::{mean, median, sample_sd};
 use crate::records::known;
+use rayon::prelude::*;
 use road_sim::road::heading_profile::heading_profile;
 use road_sim::Road;
 use road_sim::SimResult;
@@ -40,6 +42,8 @@ pub struct RunMeasures {
     /// Mean of the candidates the analyzer ranked per test it chose (the acceptance rule's
     /// selection pressure); `None` when it chose none.
     pub ranked_per_choice: Option<f64>,
+    /// The SBST competition's measures.
+    pub sbst: SbstMeasures,
 }
 
 impl RunMeasures {
@@ -84,6 +88,7 @@ impl RunMeasures {
             failure_rate_after_first: (tests_after_first > 0)
                 .then(|| (failures - 1) as f64 / tests_after_first as f64),
             ranked_per_choice: mean(&ranked),
+            sbst: SbstMeasures::of(run),
         }
     }
 
@@ -179,7 +184,8 @@ pub struct GroupFigures {
 impl GroupFigures {
     /// Figures of `runs`.
     pub fn of(runs: &[&RunFile]) -> Self {
-        let measures: Vec<RunMeasures> = runs.iter().map(|r| RunMeasures::of(r)).collect();
+        // Runs are measured apart (the OOB analysis is quadratic in a run's failures).
+        let measures: Vec<RunMeasures> = runs.par_iter().map(|r| RunMeasures::of(r)).collect();
         let column = |measure| values_of(&measures, measure);
         let executed_total: usize = measures.iter().map(|m| m.executed).sum();
         let failed_total: usize = measures.iter().map(|m| m.failures).sum();
@@ -253,6 +259,7 @@ mod tests {
             path: "run.jsonl".into(),
             header: None,
             tests,
+            beyond_budget: Vec::new(),
             train_ms: 0.0,
             summary: None,
             problems: Vec::new(),

@@ -97,6 +97,48 @@ const EXPLOITATION: [(&str, Measure); 3] = [
     }),
 ];
 
+/// The SBST competition's measures per run, as its pipeline computes them: a table of each group,
+/// and rows of the comparison.
+const COMPETITION: [(&str, Measure); 12] = [
+    ("tests generated (handed to execution)", |m| {
+        Some(m.sbst.generated as f64)
+    }),
+    ("failures", |m| Some(m.failures as f64)),
+    ("effectiveness (valid / generated)", |m| {
+        m.sbst.effectiveness
+    }),
+    ("invalid candidates rejected before proposing", |m| {
+        Some(m.sbst.invalid_candidates as f64)
+    }),
+    ("efficiency (generation time per test, ms)", |m| {
+        m.sbst.efficiency_s.map(|s| s * 1e3)
+    }),
+    ("lane exits over the centre line (left)", |m| {
+        Some(m.sbst.exits_left as f64)
+    }),
+    ("lane exits over the road's edge (right)", |m| {
+        Some(m.sbst.exits_right as f64)
+    }),
+    ("OOBAnalyzer: LEFT OOBs", |m| {
+        m.sbst.oob_figure(|s| s.left as f64)
+    }),
+    ("OOBAnalyzer: RIGHT OOBs", |m| {
+        m.sbst.oob_figure(|s| s.right as f64)
+    }),
+    ("OOBAnalyzer: sparseness mean (runs it completes)", |m| {
+        m.sbst.oob_figure(|s| s.sparseness_mean)
+    }),
+    ("OOBAnalyzer: sparseness SD (runs it completes)", |m| {
+        m.sbst.oob_figure(|s| s.sparseness_sd)
+    }),
+    ("sparseness mean over the OOBs it places", |m| {
+        m.sbst.oob_placed_figure(|s| s.sparseness_mean)
+    }),
+];
+
+/// The rows of [`COMPETITION`] the comparison tests (failures are tested already).
+const COMPETITION_COMPARED: [usize; 6] = [4, 5, 6, 7, 9, 11];
+
 /// One group's section.
 fn group(number_1: usize, section: &GroupSection) -> String {
     let f = &section.figures;
@@ -126,6 +168,7 @@ fn group(number_1: usize, section: &GroupSection) -> String {
     for (name, measure) in EXPLOITATION {
         text.push_str(&spread_row(name, &Spread::of(&f.values(measure))));
     }
+    text.push_str(&competition(f));
     let failing: usize = f.runs.iter().map(|m| m.failures).sum();
     let _ = writeln!(
         text,
@@ -177,6 +220,43 @@ fn group(number_1: usize, section: &GroupSection) -> String {
     text
 }
 
+/// A group's table of the competition's measures, with a note on runs its OOB analysis fails.
+fn competition(f: &GroupFigures) -> String {
+    let mut text = String::from(
+        "\nThe SBST competition's measures, as its pipeline computes them (beside the paper's \
+         diversity above):\n\n| measure | mean | SD | runs |\n|---|---|---|---|\n",
+    );
+    for (name, measure) in COMPETITION {
+        text.push_str(&spread_row(name, &Spread::of(&f.values(measure))));
+    }
+    let failed: Vec<String> = f
+        .runs
+        .iter()
+        .enumerate()
+        .filter_map(|(i, m)| {
+            m.sbst
+                .oob
+                .as_ref()
+                .err()
+                .map(|e| format!("run {}: {e}", i + 1))
+        })
+        .collect();
+    if !failed.is_empty() {
+        let unplaced: usize = f.runs.iter().map(|m| m.sbst.oob_unplaced).sum();
+        let _ = writeln!(
+            text,
+            "\nThe pipeline's OOB analysis fails on {} of {} run(s) ({unplaced} OOB(s) it cannot \
+             place on its resampled road), as the pipeline itself would:\n",
+            failed.len(),
+            f.runs.len()
+        );
+        for line in failed {
+            let _ = writeln!(text, "- {line}");
+        }
+    }
+    text
+}
+
 /// The side-by-side table of two groups.
 fn comparison(a: &GroupSection, b: &GroupSection) -> String {
     let mut text = String::from("## Comparison: A vs B\n\n");
@@ -188,7 +268,8 @@ fn comparison(a: &GroupSection, b: &GroupSection) -> String {
         ("failures per run", |m| Some(m.failures as f64)),
         ("diversity", |m| m.diversity),
     ];
-    for (name, measure) in outcomes.into_iter().chain(EXPLOITATION) {
+    let competition = COMPETITION_COMPARED.map(|i| COMPETITION[i]);
+    for (name, measure) in outcomes.into_iter().chain(EXPLOITATION).chain(competition) {
         let (x, y) = (a.figures.values(measure), b.figures.values(measure));
         let both = |s: &Spread| format!("{} ({}) n={}", number(s.mean), number(s.sd), s.count);
         let (u, p, method) = match mann_whitney(&x, &y) {

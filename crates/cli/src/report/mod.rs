@@ -10,6 +10,7 @@ mod group;
 mod markdown;
 mod plots;
 pub mod run_file;
+pub mod sbst_metrics;
 mod stats;
 mod trace_plot;
 

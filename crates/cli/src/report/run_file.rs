@@ -6,6 +6,7 @@ use crate::json_lines::{numbered_lines, open_input};
 pub use crate::records::TestRecord;
 use crate::records::{Header, Record, SummaryRecord};
 use anyhow::Result;
+use road_sim::DriverKind;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -63,6 +64,10 @@ pub struct RunHeader {
     pub oob_tolerance: Option<f64>,
     /// Side of the map, metres.
     pub map_size_m: f64,
+    /// The driver under test.
+    pub oracle: DriverKind,
+    /// Every setting as the header gives it (for replaying a test).
+    pub config: Value,
 }
 
 /// One run read from its file.
@@ -72,8 +77,11 @@ pub struct RunFile {
     pub path: PathBuf,
     /// The header, when the file had one.
     pub header: Option<RunHeader>,
-    /// The executed tests, in file order.
+    /// The executed tests the run kept, in file order.
     pub tests: Vec<TestRecord>,
+    /// A test executed with an SBST budget spent, which the competition does not keep (it
+    /// counts only as generated).
+    pub beyond_budget: Vec<TestRecord>,
     /// Training time from the `train` records, milliseconds.
     pub train_ms: f64,
     /// The summary; `None` for a truncated run.
@@ -96,6 +104,7 @@ pub fn read_run(path: &Path) -> Result<RunFile> {
         path: path.to_path_buf(),
         header: None,
         tests: Vec::new(),
+        beyond_budget: Vec::new(),
         train_ms: 0.0,
         summary: None,
         problems: Vec::new(),
@@ -134,6 +143,7 @@ fn read_record(run: &mut RunFile, text: &str) -> Result<(), String> {
         serde_json::from_value(value).map_err(|e| format!("bad {kind} record: {e}"))?;
     match record {
         Record::Header(header) => run.header = Some(read_header(&header)),
+        Record::Test(test) if test.beyond_budget => run.beyond_budget.push(test),
         Record::Test(test) => run.tests.push(test),
         Record::Train(train) => run.train_ms += train.train_ms,
         Record::Summary(summary) => run.summary = Some(summary),
@@ -196,6 +206,8 @@ fn read_header(header: &Header) -> RunHeader {
             .pointer("/road/map_size_m")
             .and_then(Value::as_f64)
             .unwrap_or(200.0),
+        oracle: header.oracle,
+        config: header.config.clone(),
     }
 }
 

@@ -55,11 +55,23 @@ pub fn interpolate(points: &[Point]) -> Result<Vec<Point>, SplineError> {
     if length_m > MAX_LENGTH_M {
         return Err(SplineError::TooLong(length_m));
     }
-    let step = sample_step(length_m);
+    let intervals = sample_intervals(length_m);
+    Ok(sample_evenly(&curve, intervals, ROUNDING_DECIMALS))
+}
+
+/// Samples `curve` at numpy's `arange(0, 1 + 1/n, 1/n)` for `n = intervals`, each coordinate
+/// rounded to `decimals` decimals the numpy way.
+pub fn sample_evenly(curve: &ParametricSpline, intervals: usize, decimals: i32) -> Vec<Point> {
+    let step = 1.0 / intervals as f64;
     // numpy's arange(0, 1 + step, step) has ceil((stop - start) / step) elements, computed in
     // floating point; for some n this is n + 2 and the last sample lies past u = 1.
     let count = ((1.0 + step) / step).ceil() as usize;
-    Ok((0..count).map(|i| curve.sample(i as f64 * step)).collect())
+    (0..count)
+        .map(|i| {
+            let [x, y] = curve.eval(i as f64 * step);
+            [round_like_numpy(x, decimals), round_like_numpy(y, decimals)]
+        })
+        .collect()
 }
 
 /// Of the samples [`interpolate`] would make, the one nearest (in the curve's parameter) to each
@@ -77,13 +89,17 @@ pub fn samples_at_points(points: &[Point]) -> Result<Vec<Point>, SplineError> {
 
 /// The parameter step between samples of a spline through points `length_m` apart in all.
 fn sample_step(length_m: f64) -> f64 {
-    let intervals = ((length_m / INTERPOLATION_DISTANCE_M) as usize).max(MIN_SAMPLES);
-    1.0 / intervals as f64
+    1.0 / sample_intervals(length_m) as f64
 }
 
-/// Rounds to [`ROUNDING_DECIMALS`] decimals the way numpy does: scale, round half to even, unscale.
-fn round_like_numpy(value: f64) -> f64 {
-    let scale = 10f64.powi(ROUNDING_DECIMALS);
+/// How many parameter intervals the spline through points `length_m` apart is sampled at.
+fn sample_intervals(length_m: f64) -> usize {
+    ((length_m / INTERPOLATION_DISTANCE_M) as usize).max(MIN_SAMPLES)
+}
+
+/// Rounds to `decimals` decimals the way numpy does: scale, round half to even, unscale.
+fn round_like_numpy(value: f64, decimals: i32) -> f64 {
+    let scale = 10f64.powi(decimals);
     (value * scale).round_ties_even() / scale
 }
 
@@ -103,7 +119,10 @@ impl ParametricSpline {
     /// The point at parameter `u`, rounded as the competition rounds its samples.
     fn sample(&self, u: f64) -> Point {
         let [x, y] = self.eval(u);
-        [round_like_numpy(x), round_like_numpy(y)]
+        [
+            round_like_numpy(x, ROUNDING_DECIMALS),
+            round_like_numpy(y, ROUNDING_DECIMALS),
+        ]
     }
 
     /// Fits the interpolant of FITPACK's `splprep(s=0)` through `points`.

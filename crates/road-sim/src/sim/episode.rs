@@ -6,8 +6,9 @@
 use super::config::{SimConfig, MAX_SIM_TIME_S};
 use super::fitness::{fitness_from_distance, CENTRED_DISTANCE_M};
 use super::lane_monitor::LaneMonitor;
-use super::outcome::{Outcome, Sample, SimResult, StopReason};
+use super::outcome::{LaneExit, LaneSide, Outcome, Sample, SimResult, StopReason};
 use super::vehicle::{CarState, Command, Vehicle, VehicleParams};
+use crate::oob::sbst_side;
 use crate::road::{Point, Road, RoadFeatures, LANE_WIDTH_M};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -95,6 +96,7 @@ pub fn simulate(
     let (mut sum_sa, mut sum_sa_sq, mut count) = (0.0, 0.0, 0_u64);
     let (mut anchor, mut anchor_t) = (start, 0.0);
     let mut step = 0_u64;
+    let mut lane_exit = None;
     let (outcome, why) = loop {
         if step.is_multiple_of(control_stride) {
             let observation = Observation {
@@ -143,9 +145,24 @@ pub fn simulate(
                 bolp: m.bolp,
                 dist_left_m: m.dist_left_m,
                 dist_right_m: m.dist_right_m,
+                oob_distance_m: m.oob_distance_m,
+                throttle: command.throttle.clamp(0.0, 1.0),
+                brake: command.brake.clamp(0.0, 1.0),
             });
         }
         if m.bolp > config.oob_tolerance {
+            let side = if m.dist_left_m < m.dist_right_m {
+                LaneSide::Left
+            } else {
+                LaneSide::Right
+            };
+            lane_exit = Some(LaneExit {
+                t_s: t,
+                x: car.position[0],
+                y: car.position[1],
+                side,
+                sbst_side: sbst_side(&road.road_points, car.position),
+            });
             break (Outcome::Fail, Some(StopReason::OutOfLane));
         }
         // The end counts only once the car has got near it along the road (a road may pass close
@@ -197,6 +214,7 @@ pub fn simulate(
         } else {
             max_lp
         },
+        oob: lane_exit,
         trace: trace.then_some(samples),
     }
 }

@@ -15,5 +15,5 @@ pub use fitness::{
     fitness_from_distance, FitnessKind, CENTRED_DISTANCE_M, FITNESS_FAILURE_DISTANCE_M,
 };
 pub use lane_monitor::{LaneMeasure, LaneMonitor};
-pub use outcome::{Outcome, Sample, SimResult, StopReason};
+pub use outcome::{LaneExit, LaneSide, Outcome, Sample, SimResult, StopReason};
 pub use vehicle::{CarState, Command, Vehicle, VehicleParams};

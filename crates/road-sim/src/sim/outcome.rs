@@ -1,5 +1,6 @@
 //! What a simulation reports: the outcome, the oracle's figures and an optional trace.
 
+use crate::oob::SbstSide;
 use serde::{Deserialize, Deserializer, Serialize};
 
 /// Verdict of one drive.
@@ -57,6 +58,45 @@ pub struct Sample {
     /// Signed distance from the car centre to the lane's right edge (the road's right edge),
     /// metres, positive inside the lane.
     pub dist_right_m: f64,
+    /// The competition's `oob_distance`: half the lane width minus the distance from the car
+    /// centre to the lane's centre line, metres (the per-sample value of `MEAN_LP`; absent, so
+    /// NaN, in traces written before it was).
+    #[serde(default = "nan", deserialize_with = "nan_for_null")]
+    pub oob_distance_m: f64,
+    /// The driver's throttle command in force, `[0, 1]`.
+    #[serde(default)]
+    pub throttle: f64,
+    /// The driver's brake command in force, `[0, 1]`.
+    #[serde(default)]
+    pub brake: f64,
+}
+
+/// Which edge of its lane the car crossed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LaneSide {
+    /// The lane's left edge, the road's centre line (towards oncoming traffic).
+    Left,
+    /// The lane's right edge, the road's edge.
+    Right,
+}
+
+/// Where the car first left its lane: the first sample whose BOLP exceeded the tolerance (the
+/// competition's first `is_oob` record).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LaneExit {
+    /// Simulated time, seconds.
+    pub t_s: f64,
+    /// Car centre, metres.
+    pub x: f64,
+    /// Car centre, metres.
+    pub y: f64,
+    /// The edge the car crossed: the one its centre is nearer to (or beyond).
+    pub side: LaneSide,
+    /// The competition's label of the same exit (`OOBAnalyzer`: LEFT when the car centre is
+    /// within 2 m of its own resampling of the centre line, else RIGHT, so leaving past the far
+    /// edge counts RIGHT); `None` when that analysis cannot resample the road (under 4 points).
+    pub sbst_side: Option<SbstSide>,
 }
 
 /// Result of one drive.
@@ -103,9 +143,17 @@ pub struct SimResult {
     #[serde(rename = "MAX_LP")]
     #[serde(deserialize_with = "nan_for_null")]
     pub max_lp: f64,
+    /// Where the car first left its lane, when it did (absent in records written before it was).
+    #[serde(default)]
+    pub oob: Option<LaneExit>,
     /// The samples, when a trace was asked for.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub trace: Option<Vec<Sample>>,
+}
+
+/// NaN, the value of a figure a record does not carry.
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// Reads a number that serde_json wrote as `null` (it writes NaN and infinities so) as NaN, so
@@ -161,6 +209,7 @@ mod tests {
             std_sa: 4.0,
             mean_lp: 1.5,
             max_lp: 2.0,
+            oob: None,
             trace: None,
         };
         let json = serde_json::to_value(&result).unwrap();
@@ -184,6 +233,7 @@ mod tests {
             "STD_SA",
             "MEAN_LP",
             "MAX_LP",
+            "oob",
         ];
         expected.sort_unstable();
         assert_eq!(keys, expected);

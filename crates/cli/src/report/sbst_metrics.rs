@@ -1,0 +1,151 @@
+//! The SBST competition's measures of one run, computed as its pipeline computes them from a
+//! result folder: failures, effectiveness (valid / generated), efficiency (generation time per
+//! generated test) and its `OOBAnalyzer`'s sides and sparseness of the out-of-bound failures
+//! ([`road_sim::oob`]). Sparseness looks only at the 60 m of road around each exit, so unlike the
+//! paper's diversity it does not grow with road length.
+//!
+//! The pipeline's analysis fails a whole run when one OOB cannot be placed on its resampling of
+//! the road (no resampled point within 0.5 m of the nearest point, which happens where its
+//! samples lie more than 1 m apart). The report then says so, and gives beside it the same
+//! sparseness over the OOBs that could be placed, which equals the pipeline's whenever the
+//! pipeline's succeeds.
+
+use super::run_file::RunFile;
+use crate::sbst_format::GenerationStats;
+use road_sim::oob::{self, OobError, OobSummary, SbstTest};
+use road_sim::{LaneSide, Outcome, StopReason};
+
+/// The competition's measures of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SbstMeasures {
+    /// Tests handed to execution (kept, and the one beyond a budget).
+    pub generated: usize,
+    /// Valid tests over generated ones: 1 for wogan, which validates before it proposes.
+    pub effectiveness: Option<f64>,
+    /// Candidates wogan rejected as invalid before proposing (the competition never sees them).
+    pub invalid_candidates: usize,
+    /// Generation time the competition charges per generated test, seconds.
+    pub efficiency_s: Option<f64>,
+    /// Out-of-lane failures whose car crossed the lane's left edge (the centre line).
+    pub exits_left: usize,
+    /// Out-of-lane failures whose car crossed the lane's right edge (the road's edge).
+    pub exits_right: usize,
+    /// The pipeline's `OOBAnalyzer` summary, or why it cannot be made.
+    pub oob: Result<OobSummary, String>,
+    /// The same summary over the OOBs the analysis could place (failed ones left out), or why
+    /// it cannot be made.
+    pub oob_placed: Result<OobSummary, String>,
+    /// OOBs the analysis could not place.
+    pub oob_unplaced: usize,
+}
+
+impl SbstMeasures {
+    /// Measures `run`.
+    pub fn of(run: &RunFile) -> Self {
+        let stats = GenerationStats::of(run);
+        let entries = oob_tests(run).map(|tests| oob::entries(&tests));
+        let summary = entries
+            .as_ref()
+            .map_err(ToString::to_string)
+            .and_then(|e| oob::summarise(e).map_err(|e| e.to_string()));
+        let placed = entries.as_ref().map(|e| {
+            e.iter()
+                .filter(|entry| entry.failure.is_none())
+                .cloned()
+                .collect::<Vec<_>>()
+        });
+        let oob_unplaced = match (&entries, &placed) {
+            (Ok(all), Ok(placed)) => all.len() - placed.len(),
+            _ => 0,
+        };
+        let oob_placed = placed
+            .map_err(|e| e.to_string())
+            .and_then(|e| oob::summarise(&e).map_err(|e| e.to_string()));
+        let generated = stats.generated as usize;
+        let exits = |side: LaneSide| {
+            run.tests
+                .iter()
+                .filter_map(|t| t.execution.result.oob)
+                .filter(|exit| exit.side == side)
+                .count()
+        };
+        Self {
+            generated,
+            effectiveness: (generated > 0).then(|| stats.valid as f64 / generated as f64),
+            invalid_candidates: run
+                .tests
+                .iter()
+                .chain(&run.beyond_budget)
+                .map(|t| t.invalid_candidates)
+                .sum(),
+            efficiency_s: (generated > 0 && stats.generation_s.is_finite())
+                .then(|| stats.generation_s / generated as f64),
+            exits_left: exits(LaneSide::Left),
+            exits_right: exits(LaneSide::Right),
+            oob: summary.clone(),
+            oob_placed,
+            oob_unplaced,
+        }
+    }
+
+    /// A figure of the pipeline's OOB summary, when it could be made and is a number.
+    pub fn oob_figure(&self, f: fn(&OobSummary) -> f64) -> Option<f64> {
+        figure(&self.oob, f)
+    }
+
+    /// A figure of the summary over the placed OOBs, when it could be made and is a number.
+    pub fn oob_placed_figure(&self, f: fn(&OobSummary) -> f64) -> Option<f64> {
+        figure(&self.oob_placed, f)
+    }
+}
+
+/// `f` of `summary`, when there is one and `f` is a number.
+fn figure(summary: &Result<OobSummary, String>, f: fn(&OobSummary) -> f64) -> Option<f64> {
+    summary.as_ref().ok().map(f).filter(|v| v.is_finite())
+}
+
+/// Why a run's OOBs cannot be analysed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OobSummaryError {
+    /// The run was written before test records said where the car left its lane.
+    #[error("test {0} left its lane but its record does not say where (a run written before wogan recorded it)")]
+    NoExitRecorded(usize),
+    /// The pipeline's analysis itself fails on these tests.
+    #[error("the competition's OOB analysis fails: {0}")]
+    Analysis(#[from] OobError),
+}
+
+/// The kept tests of `run` as the pipeline's analysis reads their files, in the order of their
+/// file names (which export pads to one width, so id order).
+pub fn oob_tests(run: &RunFile) -> Result<Vec<SbstTest>, OobSummaryError> {
+    let mut tests = Vec::with_capacity(run.tests.len());
+    for t in &run.tests {
+        let result = &t.execution.result;
+        if result.reason == Some(StopReason::OutOfLane) && result.oob.is_none() {
+            return Err(OobSummaryError::NoExitRecorded(t.id));
+        }
+        tests.push(SbstTest {
+            id: t.id as u64,
+            is_valid: true,
+            test_outcome: Some(outcome_name(result.outcome).to_owned()),
+            road_points: t.execution.road_points.clone(),
+            oob_point: result.oob.map(|exit| [exit.x, exit.y]),
+        });
+    }
+    tests.sort_by_key(|t| t.id);
+    Ok(tests)
+}
+
+/// The pipeline's `OOBAnalyzer` summary of `run`'s kept tests.
+pub fn oob_summary(run: &RunFile) -> Result<OobSummary, OobSummaryError> {
+    Ok(oob::analyse(&oob_tests(run)?)?)
+}
+
+/// The outcome as a test file spells it.
+fn outcome_name(outcome: Outcome) -> &'static str {
+    match outcome {
+        Outcome::Pass => "PASS",
+        Outcome::Fail => "FAIL",
+        Outcome::Error => "ERROR",
+    }
+}
