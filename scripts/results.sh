@@ -369,18 +369,6 @@ def sbst_group_tables(path):
     return groups
 
 
-def comparison_p(path):
-    """The comparison's p-value per measure, under the report's own row names."""
-    rows, on = {}, False
-    for line in open(path):
-        if line.startswith("## "):
-            on = line.startswith("## Comparison")
-        elif on and line.startswith("| ") and not line.startswith("| measure") and not line.startswith("|---"):
-            cells = [c.strip() for c in line.strip().strip("|").split("|")]
-            rows[cells[0]] = cells[4]
-    return rows
-
-
 def sbst_section():
     out()
     out("## Under the SBST competition's budgets")
@@ -411,7 +399,8 @@ def sbst_section():
                        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         report = os.path.join(directory, "report.md")
         groups = sbst_group_tables(report)
-        p = comparison_p(report)
+        # The comparison's rows, by name up to its first parenthesis (as report_rows keys them).
+        p = {name: row[2] for name, row in report_rows(report).items()}
         p["failures"] = p.get("failures per run", "–")
         out(f"{len(wogan)} WOGAN runs, {len(random)} random runs.")
         out()
@@ -425,7 +414,7 @@ def sbst_section():
                 if runs not in (str(len(wogan)), str(len(random))):
                     cell += f", {runs} runs"
                 cells.append(cell)
-            out(f"| {label} | {cells[0]} | {cells[1]} | {p_text(p.get(name, '–'))} |")
+            out(f"| {label} | {cells[0]} | {cells[1]} | {p_text(p.get(name.split(' (')[0], '–'))} |")
 
 
 # ---------------------------------------------------------------------------------------------

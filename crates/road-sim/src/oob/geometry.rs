@@ -9,16 +9,9 @@
 
 use crate::road::Point;
 
-/// Distance between two points: `sqrt(dx² + dy²)`, as GEOS computes it (not `hypot`).
-pub fn distance(a: Point, b: Point) -> f64 {
-    let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
-    (dx * dx + dy * dy).sqrt()
-}
-
-/// Length of the polyline through `points`, summed segment by segment from the first.
-pub fn length(points: &[Point]) -> f64 {
-    points.windows(2).map(|w| distance(w[1], w[0])).sum()
-}
+// GEOS's point distance and line length are the spline's (`sqrt(dx² + dy²)`, summed from the
+// first segment).
+pub use crate::road::spline::{distance, polyline_length as length};
 
 /// Distance from `p` to the segment `a`–`b`: to an end point when `p` projects outside the
 /// segment, else the perpendicular distance from the cross product.

@@ -42,9 +42,13 @@ pub fn polyline_length(points: &[Point]) -> f64 {
     points.windows(2).map(|w| distance(w[0], w[1])).sum()
 }
 
-/// Euclidean distance between two points.
+/// Euclidean distance between two points, as FITPACK's chord lengths and GEOS's (shapely's)
+/// lengths compute it: `sqrt(dx² + dy²)`. Not `hypot`, which rounds differently in the last bit:
+/// a 75 m WOGAN road then measures 74.99999999999999 m where the pipeline's measures 75, and is
+/// sampled at 74 intervals instead of 75.
 pub fn distance(a: Point, b: Point) -> f64 {
-    (b[0] - a[0]).hypot(b[1] - a[1])
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    (dx * dx + dy * dy).sqrt()
 }
 
 /// Interpolates road points as the competition does: chord-length spline sampled about every
@@ -375,6 +379,23 @@ mod tests {
             ParametricSpline::fit(&[[0.0, 0.0]]).unwrap_err(),
             SplineError::TooFewPoints(1)
         );
+    }
+
+    #[test]
+    fn lengths_are_measured_as_the_pipeline_measures_them() {
+        // A WOGAN road of five 15 m steps: sqrt(dx² + dy²) sums to exactly 75 (as shapely's
+        // length does, so the pipeline samples 75 intervals, 76 points), where hypot sums to
+        // 74.99999999999999.
+        let points = [
+            [100.0, 10.0],
+            [100.0, 25.0],
+            [107.78367620599062, 37.82241727289731],
+            [114.76011678809492, 51.101320721765674],
+            [113.16958939972879, 66.01675643872873],
+            [113.30957956732293, 81.01610318293653],
+        ];
+        assert_eq!(polyline_length(&points), 75.0);
+        assert_eq!(interpolate(&points).unwrap().len(), 76);
     }
 
     #[test]
