@@ -5,9 +5,9 @@
 //! executes the test the networks propose. `stop` is checked between tests, so a Ctrl-C handler
 //! that sets it ends the run after the current test with everything so far reported.
 //!
-//! Every run keeps the SBST competition's accounting ([`SbstBudget`](crate::SbstBudget)): each test is charged the
+//! Every run keeps the SBST competition's accounting ([`SbstBudget`]): each test is charged the
 //! real time since the previous test's execution ended, and its execution time. Under an
-//! [`SbstBudget`](crate::SbstBudget) a test that ends with either budget spent is reported with `beyond_budget`
+//! [`SbstBudget`] a test that ends with either budget spent is reported with `beyond_budget`
 //! set, is not learnt from, and ends the run, as the competition's pipeline discards it.
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -17,6 +17,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
 use serde::{Deserialize, Serialize};
 
+#[cfg(doc)]
+use crate::budget::SbstBudget;
 use crate::budget::{Budget, SbstUsage};
 use crate::config::{Algorithm, RunConfig};
 use crate::error::Error;
@@ -80,7 +82,7 @@ pub enum Event<O> {
         sbst_generation_ms: f64,
         /// Time the execution charged to an execution budget, seconds.
         execution_time_s: f64,
-        /// Whether the test ended with an [`SbstBudget`](crate::SbstBudget) spent: the competition does not keep it,
+        /// Whether the test ended with an [`SbstBudget`] spent: the competition does not keep it,
         /// and the run ends.
         beyond_budget: bool,
         /// The SUT's report.
@@ -126,7 +128,7 @@ pub struct Summary {
     pub sbst_generation_s: f64,
     /// Execution time charged, seconds (simulated for a simulator; every executed test).
     pub execution_time_s: f64,
-    /// Tests executed but not kept because they ended with an [`SbstBudget`](crate::SbstBudget) spent (0 or 1).
+    /// Tests executed but not kept because they ended with an [`SbstBudget`] spent (0 or 1).
     pub beyond_budget: usize,
 }
 
