@@ -14,8 +14,8 @@
 use crate::driver_options::driver_config;
 use crate::records::TestRecord;
 use crate::report::run_file::{read_run, RunFile, RunHeader};
-use crate::report::sbst_metrics::oob_summary;
-use crate::sbst_format::{description, execution_data, CompetitionTest, Features, GenerationStats};
+use crate::report::sbst_metrics::{oob_summary, GenerationStats};
+use crate::sbst_format::{description, execution_data, CompetitionTest, Features};
 use crate::Status;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};

@@ -1,5 +1,5 @@
 //! The SBST competition's measures of one run, computed as its pipeline computes them from a
-//! result folder: failures, effectiveness (valid / generated), efficiency (generation time per
+//! result folder: the totals of `generation_stats.csv`, failures, effectiveness (valid / generated), efficiency (generation time per
 //! generated test) and its `OOBAnalyzer`'s sides and sparseness of the out-of-bound failures
 //! ([`road_sim::oob`]). Sparseness looks only at the 60 m of road around each exit, so unlike the
 //! paper's diversity it does not grow with road length.
@@ -11,9 +11,89 @@
 //! pipeline's succeeds.
 
 use super::run_file::RunFile;
-use crate::sbst_format::GenerationStats;
+use crate::records::{known, TestRecord};
 use road_sim::oob::{self, OobError, OobSummary, SbstTest};
 use road_sim::{LaneSide, Outcome, StopReason};
+
+/// Totals of `generation_stats.csv`, counted as the pipeline counts them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GenerationStats {
+    /// Tests handed to the executor.
+    pub generated: u64,
+    /// Of those, valid (all of wogan's: it validates before it proposes).
+    pub valid: u64,
+    /// Of those, invalid.
+    pub invalid: u64,
+    /// Kept tests that passed.
+    pub passed: u64,
+    /// Kept tests that failed.
+    pub failed: u64,
+    /// Kept tests in error.
+    pub in_error: u64,
+    /// Generation time as the pipeline charges it, seconds.
+    pub generation_s: f64,
+    /// Execution wall time of every executed test, seconds.
+    pub execution_s: f64,
+    /// Simulated time of the kept tests, seconds.
+    pub simulated_s: f64,
+}
+
+impl GenerationStats {
+    /// The totals of `run`. A test executed beyond an SBST budget counts as generated and valid
+    /// and its execution's wall time counts, but it is not kept: its outcome and simulated time
+    /// do not count, as in the pipeline. Runs written before the competition's generation time
+    /// was recorded charge the time of choosing and of training.
+    pub fn of(run: &RunFile) -> Self {
+        let count = |outcome: Outcome| {
+            run.tests
+                .iter()
+                .filter(|t| t.execution.result.outcome == outcome)
+                .count() as u64
+        };
+        let handed = || run.tests.iter().chain(&run.beyond_budget);
+        let sum = |tests: &mut dyn Iterator<Item = &TestRecord>, f: fn(&TestRecord) -> f64| {
+            tests.filter_map(|t| known(f(t))).sum::<f64>()
+        };
+        let generated = handed().count() as u64;
+        let generation_s = if handed().all(|t| t.sbst_generation_ms.is_some()) {
+            sum(&mut handed(), |t| t.sbst_generation_ms.unwrap_or(f64::NAN)) / 1000.0
+        } else {
+            match &run.summary {
+                Some(s) => s.generation_s + s.training_s,
+                None => (sum(&mut handed(), |t| t.generation_ms) + run.train_ms) / 1000.0,
+            }
+        };
+        Self {
+            generated,
+            valid: generated,
+            invalid: 0,
+            passed: count(Outcome::Pass),
+            failed: count(Outcome::Fail),
+            in_error: count(Outcome::Error),
+            generation_s,
+            execution_s: sum(&mut handed(), |t| t.execution.result.execution_ms) / 1000.0,
+            simulated_s: sum(&mut run.tests.iter(), |t| t.execution.result.sim_time_s),
+        }
+    }
+
+    /// The CSV text: the competition's header and one row of totals.
+    pub fn csv(&self) -> String {
+        format!(
+            "test_generated,test_valid,test_invalid,test_passed,test_failed,test_in_error,\
+             real_time_generation,real_time_execution,simulated_time_execution\n\
+             {},{},{},{},{},{},{},{},{}\n",
+            self.generated,
+            self.valid,
+            self.invalid,
+            self.passed,
+            self.failed,
+            self.in_error,
+            self.generation_s,
+            self.execution_s,
+            self.simulated_s
+        )
+    }
+}
 
 /// The competition's measures of a run.
 #[derive(Debug, Clone, PartialEq)]
