@@ -374,7 +374,7 @@ def sbst_section():
     out("## Under the SBST competition's budgets")
     out()
     out("WOGAN (the paper's settings) and random search with `--generation-budget 1h "
-        "--execution-budget 2h`, seeds 1–20, each exported with `wogan export --format sbst` and "
+        "--execution-budget 2h`, seeds 1–20 (fewer where a table says so), each exported with `wogan export --format sbst` and "
         "reported with `wogan report WOGAN --vs RANDOM` (target/sbst/report-ORACLE/): the "
         "competition's measures as its pipeline computes them, mean (SD) over runs, and the "
         "Mann–Whitney p-value where the report tests the measure. Effectiveness (valid / generated) "
