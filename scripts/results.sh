@@ -283,14 +283,20 @@ COMPARISONS = [
 MEASURES = ["failures per run", "diversity", "first failing test"]
 
 
+def table_row(line):
+    """The cells of a Markdown table's data row; None for any other line (its header included)."""
+    if not line.startswith("| ") or line.startswith("| measure"):
+        return None
+    return [c.strip() for c in line.strip().strip("|").split("|")]
+
+
 def report_rows(path):
     """The comparison table of a report.md: measure → (A mean, B mean, p)."""
     rows, on = {}, False
     for line in open(path):
         if line.startswith("## "):
             on = line.startswith("## Comparison")
-        elif on and line.startswith("| ") and not line.startswith("| measure") and not line.startswith("|---"):
-            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        elif on and (cells := table_row(line)):
             name = cells[0].split(" (")[0]
             rows[name] = (cells[1].split(" ")[0], cells[2].split(" ")[0], cells[4])
     return rows
@@ -361,8 +367,7 @@ def sbst_group_tables(path):
             groups.append(table)
         elif line.startswith("The SBST competition's measures"):
             on = True
-        elif on and line.startswith("| ") and not line.startswith("| measure") and table is not None:
-            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        elif on and table is not None and (cells := table_row(line)):
             table[cells[0]] = (cells[1], cells[2], cells[3])
         elif on and line.startswith("Feature coverage"):
             on = False

@@ -257,7 +257,7 @@ pub struct CompetitionTest<'a> {
     /// The road points.
     pub road_points: &'a [Point],
     /// The centre line as the pipeline interpolates it.
-    pub interpolated_points: Vec<Point>,
+    pub interpolated_points: &'a [Point],
     /// The validator's verdict.
     pub is_valid: bool,
     /// The validator's message (empty when valid).

@@ -164,7 +164,6 @@ impl Runner<'_> {
     /// before execution: simulated time remains). Charges the generation time.
     fn hand_over(&mut self, generation_s: f64) -> bool {
         self.used.generation += Duration::from_secs_f64(generation_s.max(0.0));
-        self.summary.sbst_generation_s += generation_s.max(0.0);
         self.budget
             .sbst
             .is_none_or(|b| b.can_run_a_test(&self.used))
@@ -174,7 +173,6 @@ impl Runner<'_> {
     /// is now spent.
     fn charge(&mut self, generation_s: f64, execution_time_s: f64) -> Charge {
         self.used.execution_s += execution_time_s;
-        self.summary.execution_time_s += execution_time_s;
         let beyond_budget = self.budget.sbst.is_some_and(|b| b.is_over(&self.used));
         if beyond_budget {
             self.summary.beyond_budget += 1;
@@ -468,6 +466,8 @@ pub fn run<S: Sut + ?Sized>(
         }
     }
     r.summary.wall_s = r.elapsed().as_secs_f64();
+    r.summary.sbst_generation_s = r.used.generation.as_secs_f64();
+    r.summary.execution_time_s = r.used.execution_s;
     Ok(r.summary)
 }
 

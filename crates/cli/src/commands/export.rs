@@ -143,25 +143,23 @@ impl Replay {
         Ok(Self { sim, driver })
     }
 
-    /// Drives `test` again with samples, checking that the drive is the recorded one.
-    fn drive(&self, test: &TestRecord) -> Result<SimResult> {
-        let road = Road::new(&test.execution.road_points)
-            .with_context(|| format!("test {}: its road points make no road", test.id))?;
-        let replayed = simulate(&road, self.driver.build().as_mut(), &self.sim, true, None);
+    /// Drives `test` (its road built as `road`) again with samples, checking that the drive is
+    /// the recorded one.
+    fn drive(&self, test: &TestRecord, road: &Road) -> Result<SimResult> {
+        let replayed = simulate(road, self.driver.build().as_mut(), &self.sim, true, None);
+        // Everything but the wall time and the samples, as the record holds it.
         let comparable = |r: &SimResult| {
             let mut r = r.clone();
             r.execution_ms = 0.0;
             r.trace = None;
             serde_json::to_value(r).unwrap_or_default()
         };
-        let recorded = comparable(&test.execution.result);
-        if comparable(&replayed) != recorded {
+        let (recorded, again) = (comparable(&test.execution.result), comparable(&replayed));
+        if again != recorded {
             bail!(
-                "test {} does not replay: recorded {}, driven again {} (was the run made by \
-                 another wogan version, or with --driver-weights?)",
+                "test {} does not replay: recorded {recorded}, driven again {again} (was the run \
+                 made by another wogan version, or with --driver-weights?)",
                 test.id,
-                recorded,
-                comparable(&replayed)
             );
         }
         Ok(replayed)
@@ -284,11 +282,12 @@ fn write_test(
 ) -> Result<PathBuf> {
     let road_points = &test.execution.road_points;
     let result = &test.execution.result;
+    // The validator's road serves the test object and the drive: built once.
     let verdict = validator.validate(road_points);
-    let interpolated_points = Road::new(road_points)
-        .map(|r| r.interpolated)
-        .unwrap_or_default();
-    let drive = replay.drive(test)?;
+    let Some(road) = &verdict.road else {
+        bail!("test {}: its road points make no road", test.id);
+    };
+    let drive = replay.drive(test, road)?;
     let samples = drive.trace.as_deref().unwrap_or_default();
     let max_steering_deg = replay.sim.vehicle.max_steering_rad.to_degrees();
     let phase = test.phase.name();
@@ -298,7 +297,7 @@ fn write_test(
     let object = CompetitionTest {
         id: test.id,
         road_points,
-        interpolated_points,
+        interpolated_points: &road.interpolated,
         is_valid: verdict.is_valid(),
         validation_message: verdict.message(),
         test_outcome: result.outcome,

@@ -1,7 +1,7 @@
 //! The SBST competition's measures of one run, computed as its pipeline computes them from a
-//! result folder: the totals of `generation_stats.csv`, failures, effectiveness (valid / generated), efficiency (generation time per
-//! generated test) and its `OOBAnalyzer`'s sides and sparseness of the out-of-bound failures
-//! ([`road_sim::oob`]). Sparseness looks only at the 60 m of road around each exit, so unlike the
+//! result folder: the totals of `generation_stats.csv`, failures, effectiveness (valid /
+//! generated), efficiency (generation time per generated test) and its `OOBAnalyzer`'s sides and
+//! sparseness of the out-of-bound failures ([`road_sim::oob`]). Sparseness looks only at the 60 m of road around each exit, so unlike the
 //! paper's diversity it does not grow with road length.
 //!
 //! The pipeline's analysis fails a whole run when one OOB cannot be placed on its resampling of
@@ -12,7 +12,7 @@
 
 use super::run_file::RunFile;
 use crate::records::{known, TestRecord};
-use road_sim::oob::{self, OobError, OobSummary, SbstTest};
+use road_sim::oob::{self, OobEntry, OobError, OobSummary, SbstTest};
 use road_sim::{LaneSide, Outcome, StopReason};
 
 /// Totals of `generation_stats.csv`, counted as the pipeline counts them.
@@ -123,24 +123,20 @@ impl SbstMeasures {
     /// Measures `run`.
     pub fn of(run: &RunFile) -> Self {
         let stats = GenerationStats::of(run);
-        let entries = oob_tests(run).map(|tests| oob::entries(&tests));
-        let summary = entries
-            .as_ref()
-            .map_err(ToString::to_string)
-            .and_then(|e| oob::summarise(e).map_err(|e| e.to_string()));
-        let placed = entries.as_ref().map(|e| {
-            e.iter()
-                .filter(|entry| entry.failure.is_none())
-                .cloned()
-                .collect::<Vec<_>>()
-        });
-        let oob_unplaced = match (&entries, &placed) {
-            (Ok(all), Ok(placed)) => all.len() - placed.len(),
-            _ => 0,
+        let summarise = |e: &[OobEntry]| oob::summarise(e).map_err(|e| e.to_string());
+        let (oob, oob_placed, oob_unplaced) = match oob_tests(run) {
+            Err(e) => (Err(e.to_string()), Err(e.to_string()), 0),
+            Ok(tests) => {
+                let entries = oob::entries(&tests);
+                let placed: Vec<OobEntry> = entries
+                    .iter()
+                    .filter(|entry| entry.failure.is_none())
+                    .cloned()
+                    .collect();
+                let unplaced = entries.len() - placed.len();
+                (summarise(&entries), summarise(&placed), unplaced)
+            }
         };
-        let oob_placed = placed
-            .map_err(|e| e.to_string())
-            .and_then(|e| oob::summarise(&e).map_err(|e| e.to_string()));
         let generated = stats.generated as usize;
         let exits = |side: LaneSide| {
             run.tests
@@ -162,7 +158,7 @@ impl SbstMeasures {
                 .then(|| stats.generation_s / generated as f64),
             exits_left: exits(LaneSide::Left),
             exits_right: exits(LaneSide::Right),
-            oob: summary.clone(),
+            oob,
             oob_placed,
             oob_unplaced,
         }
