@@ -498,6 +498,40 @@ def reference_roads_section(bench):
     return per_road
 
 
+# The drivers on the road families they are calibrated on (issue 11): the output of
+# scripts/driver_rates.sh, saved per driver, with the competition's anchors beside it.
+RATES = "target/results/driver_rates.{}.txt"
+
+
+def long_roads_section():
+    out()
+    out("## The drivers on long roads of the competition's kind")
+    out()
+    rates = {}
+    for oracle in ["beamng-ai-proxy", "dave2-proxy"]:
+        try:
+            with open(RATES.format(oracle)) as f:
+                for line in f:
+                    # driver_rates.sh prints a 34-character label, then "FAILED / ROADS RATE".
+                    failed, _, roads, rate = line[34:].split()
+                    rates.setdefault(line[:34].strip(), {})[oracle] = f"{rate} ({failed}/{roads})"
+        except OSError:
+            out(f"No saved rates for {oracle}: make them with `scripts/driver_rates.sh {oracle} > "
+                f"{RATES.format(oracle)}`.")
+            out()
+    if not rates:
+        return
+    out("Failures at each driver's defaults, by road family: `scripts/driver_rates.sh ORACLE > "
+        f"{RATES.format('ORACLE')}` (saved output, read here). The issue's bounds: at most 20% "
+        "(beamng-ai-proxy) and 10% (dave2-proxy) on long roads, 1–8% and 0.5–10% on WOGAN's 75 m roads. "
+        "How they were calibrated: `docs/experiments/2026-11-23-drivers-on-long-roads.md`.")
+    out()
+    out("| roads | beamng-ai-proxy | dave2-proxy |")
+    out("|---|---|---|")
+    for label, cells in rates.items():
+        out(f"| {label} | {cells.get('beamng-ai-proxy', '–')} | {cells.get('dave2-proxy', '–')} |")
+
+
 # ---------------------------------------------------------------------------------------------
 # Agreement with the competition's own pipeline, checked through the binary (the same checks as
 # tests/reference_vectors.rs, which fails below its thresholds; here the counts are shown).
@@ -778,6 +812,7 @@ def main():
     comparisons_section()
     sbst_section()
     per_road = reference_roads_section(bench)
+    long_roads_section()
     fidelity_section()
     bench_section(bench, per_road)
     bounds_section()

@@ -530,12 +530,15 @@ fn a_runs_test_records_replay_exactly_and_report_the_same_diversity() {
     let dir = scratch_dir("replay");
     let run_file = dir.join("run.jsonl");
     let run_path = run_file.to_str().unwrap();
+    // At a tolerance of 0.3 the run fails enough tests to have a diversity.
     let (code, _) = run(&[
         "--quiet",
         "--max-tests",
         "300",
         "--seed",
         "3",
+        "--oob-tolerance",
+        "0.3",
         "--out",
         run_path,
     ]);
@@ -548,7 +551,10 @@ fn a_runs_test_records_replay_exactly_and_report_the_same_diversity() {
         .filter(|l| l.contains(r#""type":"test""#))
         .collect();
     assert_eq!(tests.len(), 300);
-    let replayed = records(&crate::common::wogan_ok(&["simulate"], &tests.join("\n")));
+    let replayed = records(&crate::common::wogan_ok(
+        &["simulate", "--oob-tolerance", "0.3"],
+        &tests.join("\n"),
+    ));
     assert_eq!(replayed.len(), tests.len());
     let mut failures = 0;
     for (line, answer) in tests.iter().zip(&replayed) {

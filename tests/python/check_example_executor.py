@@ -24,13 +24,13 @@ from wogan_executor import WoganError, WoganExecutor  # noqa: E402
 
 # (name, road_points, expected outcome). Roads from the reference data: the pipeline's validator
 # accepts all but "too sharp" ("The road is too sharp"). With beamng-ai-proxy at tolerance 0.85,
-# "gentle bend" passes (it still passes at tolerance 0.3) and "hairpin" leaves the lane (it
-# still does at tolerance 0.99).
+# "gentle bend" passes (it still passes at tolerance 0.3) and "hairpin" leaves the lane (its
+# largest BOLP is 0.91 at tolerance 0.99).
 ROADS = [
     ("straight", [[100, 10], [100, 60], [100, 110]], "PASS"),
     ("gentle bend", [[77, 180], [129, 143], [132, 129]], "PASS"),
     ("too sharp", [[80, 20], [100, 60], [120, 20]], "ERROR"),
-    ("hairpin", [[133, 34], [68, 62], [53, 15]], "FAIL"),
+    ("hairpin", [[100, 10], [100, 120], [70, 130], [60, 75]], "FAIL"),
 ]
 
 

@@ -3,10 +3,62 @@
 //! `wogan run --config` and `wogan train-driver --config` both take such a file, so a user names
 //! only the fields they change and every other field keeps the paper's (or the driver's) default.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
+use road_sim::DriverKind;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::path::Path;
+
+/// The sections a `--config` file may hold: partial objects, laid over the defaults.
+#[derive(Debug, Default, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ConfigFile {
+    /// The search's settings (`wogan run` only).
+    pub search: Option<serde_json::Value>,
+    /// How drives are simulated and judged.
+    pub sim: Option<serde_json::Value>,
+    /// The driver's tuning.
+    pub driver: Option<serde_json::Value>,
+}
+
+impl ConfigFile {
+    /// The file at `path` (empty when there is none), its old driver sections moved for `oracle`.
+    pub fn read_for(path: Option<&Path>, oracle: DriverKind) -> Result<Self> {
+        let mut file = match path {
+            Some(path) => read::<Self>(path)?,
+            None => Self::default(),
+        };
+        file.move_old_driver_sections(oracle)?;
+        Ok(file)
+    }
+
+    /// Moves the driver sections that older files kept under `sim` (`sim.beamng_ai`,
+    /// `sim.dave2`) to `driver`, for the driver under test; the other driver's section is
+    /// dropped, as it always went unused. Says on stderr what it moved.
+    fn move_old_driver_sections(&mut self, oracle: DriverKind) -> Result<()> {
+        let Some(serde_json::Value::Object(sim)) = &mut self.sim else {
+            return Ok(());
+        };
+        for (old, kind) in [
+            ("beamng_ai", DriverKind::BeamNgAiProxy),
+            ("dave2", DriverKind::Dave2Proxy),
+        ] {
+            let Some(section) = sim.remove(old) else {
+                continue;
+            };
+            if kind != oracle {
+                eprintln!("wogan: config file: \"sim.{old}\" is for {kind}, not {oracle}: ignored");
+                continue;
+            }
+            if self.driver.is_some() {
+                bail!("config file: both \"sim.{old}\" and \"driver\"; \"sim.{old}\" is now \"driver\"");
+            }
+            eprintln!("wogan: config file: \"sim.{old}\" is now \"driver\"; read as such");
+            self.driver = Some(section);
+        }
+        Ok(())
+    }
+}
 
 /// Reads `path` as one JSON value and hands it to `T`'s deserializer; an error names the field
 /// by its path (`search.wogan.bins`).

@@ -1,6 +1,6 @@
 //! Options that choose and configure the driver under test, shared by `simulate` and `run`.
 
-use crate::config_file;
+use crate::config_file::{self, ConfigFile};
 use crate::value_parsers::{driver_kind, map_size_m, positive_kmh, share};
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -38,9 +38,16 @@ impl DriverOptions {
         driver_config(self.oracle, patch, self.driver_weights.as_deref(), "driver")
     }
 
-    /// The simulation settings these options ask for, on the driver's preset.
-    pub fn sim_config(&self) -> SimConfig {
-        self.apply_to(self.oracle.preset().sim_config())
+    /// The simulation settings and the driver these options and `file` ask for: the driver's
+    /// preset and default tuning, the file's `sim` and `driver` sections laid over them, then
+    /// the command line's options; or names the first setting that cannot be used.
+    pub fn resolve(&self, file: &ConfigFile) -> Result<(SimConfig, DriverConfig)> {
+        let preset = self.oracle.preset().sim_config();
+        let sim = self.apply_to(config_file::lay_over(file.sim.as_ref(), preset, "sim")?);
+        sim.validate().context("invalid simulation settings")?;
+        let driver = self.driver_config(file.driver.as_ref())?;
+        driver.validate().context("invalid driver settings")?;
+        Ok((sim, driver))
     }
 
     /// `base` with the options given on the command line applied.

@@ -5,7 +5,7 @@
 //!
 //! Precedence, lowest first: the paper's and the driver's defaults, the config file, the options.
 
-use crate::config_file;
+use crate::config_file::{self, ConfigFile};
 use crate::driver_options::DriverOptions;
 use crate::records::{Header, VERSION};
 use crate::value_parsers::{budget_duration, fitness_kind, fraction, share};
@@ -140,44 +140,6 @@ pub struct RunSettings {
     pub search: RunConfig,
 }
 
-/// The sections a `--config` file may hold: partial objects, laid over the defaults.
-#[derive(Debug, Default, serde::Deserialize)]
-#[serde(default, deny_unknown_fields)]
-struct ConfigFile {
-    search: Option<serde_json::Value>,
-    sim: Option<serde_json::Value>,
-    driver: Option<serde_json::Value>,
-}
-
-impl ConfigFile {
-    /// Moves the driver sections that older files kept under `sim` (`sim.beamng_ai`,
-    /// `sim.dave2`) to `driver`, for the driver under test; the other driver's section is
-    /// dropped, as it always went unused. Says on stderr what it moved.
-    fn move_old_driver_sections(&mut self, oracle: DriverKind) -> Result<()> {
-        let Some(serde_json::Value::Object(sim)) = &mut self.sim else {
-            return Ok(());
-        };
-        for (old, kind) in [
-            ("beamng_ai", DriverKind::BeamNgAiProxy),
-            ("dave2", DriverKind::Dave2Proxy),
-        ] {
-            let Some(section) = sim.remove(old) else {
-                continue;
-            };
-            if kind != oracle {
-                eprintln!("wogan: config file: \"sim.{old}\" is for {kind}, not {oracle}: ignored");
-                continue;
-            }
-            if self.driver.is_some() {
-                bail!("config file: both \"sim.{old}\" and \"driver\"; \"sim.{old}\" is now \"driver\"");
-            }
-            eprintln!("wogan: config file: \"sim.{old}\" is now \"driver\"; read as such");
-            self.driver = Some(section);
-        }
-        Ok(())
-    }
-}
-
 impl RunPlan {
     /// Resolves `args` (and the config file it names) into a plan, or names what is wrong.
     pub fn resolve(args: &RunArgs) -> Result<Self> {
@@ -193,17 +155,8 @@ impl RunPlan {
         }
         let oracle = args.driver.oracle;
         let preset = oracle.preset();
-        let mut file = match &args.config {
-            Some(path) => config_file::read::<ConfigFile>(path)?,
-            None => ConfigFile::default(),
-        };
-        file.move_old_driver_sections(oracle)?;
-        let sim = args.driver.apply_to(config_file::lay_over(
-            file.sim.as_ref(),
-            preset.sim_config(),
-            "sim",
-        )?);
-        let driver = args.driver.driver_config(file.driver.as_ref())?;
+        let file = ConfigFile::read_for(args.config.as_deref(), oracle)?;
+        let (sim, driver) = args.driver.resolve(&file)?;
         let fitness = args.fitness.unwrap_or(preset.fitness);
         let mut search_defaults = RunConfig::default();
         search_defaults.wogan.target_decay = default_target_decay(fitness, &sim);
@@ -236,8 +189,6 @@ impl RunPlan {
             search.wogan.target_decay = decay;
         }
         search.validate().context("invalid search settings")?;
-        sim.validate().context("invalid simulation settings")?;
-        driver.validate().context("invalid driver settings")?;
         let sbst = match (args.generation_budget, args.execution_budget) {
             (Some(generation), Some(execution)) => Some(SbstBudget {
                 generation,

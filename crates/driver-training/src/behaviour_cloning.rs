@@ -42,8 +42,12 @@ pub struct CloningConfig {
     pub training_roads: usize,
     /// Other random roads driven for validation frames.
     pub validation_roads: usize,
-    /// Curvature values per road (the paper's 5).
+    /// Curvature values per road (the paper's 5: 75 m roads).
     pub curvature_points: usize,
+    /// Share of the roads (training and validation alike) that are long instead.
+    pub long_road_share: f64,
+    /// Curvature values of a long road (12: 180 m, the length of the SBST competition's roads).
+    pub long_road_curvature_points: usize,
     /// Largest curvature of the training roads, 1/m. Below the paper's 0.07, the student meets
     /// sharper turns in testing than it learned from, as DAVE-2 did in the competition.
     pub max_curvature_per_m: f64,
@@ -75,6 +79,8 @@ impl Default for CloningConfig {
             training_roads: 120,
             validation_roads: 20,
             curvature_points: 5,
+            long_road_share: 0.5,
+            long_road_curvature_points: 12,
             max_curvature_per_m: 0.03,
             speed_kmh: 25.0,
             record_hz: 10.0,
@@ -106,9 +112,19 @@ impl CloningConfig {
             ),
             // Beyond these, valid random roads become too rare to collect.
             (
-                (2..=10).contains(&self.curvature_points),
+                (2..=14).contains(&self.curvature_points),
                 "curvature_points",
-                "between 2 and 10",
+                "between 2 and 14",
+            ),
+            (
+                (2..=14).contains(&self.long_road_curvature_points),
+                "long_road_curvature_points",
+                "between 2 and 14",
+            ),
+            (
+                (0.0..=1.0).contains(&self.long_road_share),
+                "long_road_share",
+                "in [0, 1]",
             ),
             (
                 positive(self.max_curvature_per_m) && self.max_curvature_per_m <= 0.07,
@@ -363,13 +379,25 @@ pub fn train(
     let started = Instant::now();
     let mut rng = ChaCha20Rng::seed_from_u64(config.seed);
     let all_roads = config.training_roads + config.validation_roads;
-    let roads = random_valid_roads(
-        all_roads,
-        config.curvature_points,
-        config.max_curvature_per_m,
-        &mut rng,
-    );
-    let (training_roads, validation_roads) = roads.split_at(config.training_roads);
+    let mut draw = |count: usize| {
+        // Rounded, so that a share of 0.5 of an odd count still leaves both kinds of road.
+        let long = (count as f64 * config.long_road_share).round() as usize;
+        let mut roads = random_valid_roads(
+            count - long,
+            config.curvature_points,
+            config.max_curvature_per_m,
+            &mut rng,
+        );
+        roads.extend(random_valid_roads(
+            long,
+            config.long_road_curvature_points,
+            config.max_curvature_per_m,
+            &mut rng,
+        ));
+        roads
+    };
+    let training_roads = draw(config.training_roads);
+    let validation_roads = draw(config.validation_roads);
     let mut report_road = |done: usize, frames: usize| {
         on_progress(CloningProgress::Recorded {
             roads: done,
@@ -377,8 +405,8 @@ pub fn train(
             frames,
         })
     };
-    let training = record(training_roads, config, &mut rng, &mut report_road);
-    let validation = record(validation_roads, config, &mut rng, &mut |done, frames| {
+    let training = record(&training_roads, config, &mut rng, &mut report_road);
+    let validation = record(&validation_roads, config, &mut rng, &mut |done, frames| {
         report_road(config.training_roads + done, training.len() + frames)
     });
 

@@ -1,5 +1,6 @@
 //! `wogan simulate`: drive the chosen driver along every road of the input.
 
+use crate::config_file::ConfigFile;
 use crate::driver_options::DriverOptions;
 use crate::interrupt::stop_flag;
 use crate::json_lines::{open_input, JsonLinesWriter};
@@ -7,7 +8,7 @@ use crate::records::{InvalidOutcome, Record, ResultRecord, TraceRecord};
 use crate::road_lines::{answer_each_road, Answer};
 use crate::sbst_format::execution_data;
 use crate::Status;
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::{simulate, Reason, Road, Sample, StopReason, Validator};
 use std::io::Write;
@@ -20,6 +21,11 @@ pub struct SimulateArgs {
     pub file: Option<PathBuf>,
     #[command(flatten)]
     pub driver: DriverOptions,
+    /// JSON file overriding the simulation's and the driver's defaults: `{"sim": {...},
+    /// "driver": {...}}`, as `wogan run --config` reads them (a `search` section is refused).
+    /// Options given on the command line win over the file.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
     /// Roads simulated at once (output keeps the input order).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
     pub jobs: u32,
@@ -43,9 +49,11 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
     }
     let mut out = JsonLinesWriter::create(None)?;
     let validator = Validator::new(args.driver.map_size);
-    let config = args.driver.sim_config();
-    let driver = args.driver.driver_config(None)?;
-    config.validate().context("invalid simulation settings")?;
+    let file = ConfigFile::read_for(args.config.as_deref(), args.driver.oracle)?;
+    if file.search.is_some() {
+        bail!("config file: \"search\" is for `wogan run`; `wogan simulate` reads \"sim\" and \"driver\"");
+    }
+    let (config, driver) = args.driver.resolve(&file)?;
     let max_steering_deg = config.vehicle.max_steering_rad.to_degrees();
     let sampled = args.trace.is_some() || args.execution_data;
     answer_each_road(
