@@ -12,10 +12,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 weights=${1:-}
-cargo build --release -q -p wogan-cli
+[ -n "${WOGAN:-}" ] || cargo build --release -q -p wogan-cli
 results=$(mktemp)
 trap 'rm -f "$results"' EXIT
-./target/release/wogan simulate --oracle dave2-proxy ${weights:+--driver-weights "$weights"} \
+"${WOGAN:-./target/release/wogan}" simulate --oracle dave2-proxy ${weights:+--driver-weights "$weights"} \
   tests/reference/roads.jsonl >"$results"
 field() { grep -o "\"$1\":[^,}]*" "$results" | cut -d: -f2 | tr -d '"'; }
 paste <(field outcome) <(field max_bolp) <(field MAX_CURV) <(field min_lane_distance_m) | awk '

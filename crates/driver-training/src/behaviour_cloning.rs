@@ -7,15 +7,15 @@
 //! DAVE-2 is then trained with Adam on the mean squared error of the normalised steering, on a
 //! seeded shuffle, and judged on frames of roads it never saw.
 //!
-//! The defaults make a student that learned on gentle roads only, as the competition's DAVE-2
-//! had seen few sharp ones: 120 roads no sharper than 0.03/m, 4 epochs. How it drives and what
-//! WOGAN finds on it are in `docs/results.md`.
+//! The defaults make the built-in student: 120 roads no sharper than 0.03/m, half of them 75 m
+//! (WOGAN's) and half 180 m (the competition's lengths), 4 epochs, the calibrated proxy as the
+//! teacher. It keeps to the lane centre on both kinds of road, sharp ones included. Students of a
+//! corner-cutting teacher, or of 75 m roads only, fail long sharp roads by the dozen; how each
+//! candidate drove is in `docs/experiments/2026-11-23-drivers-on-long-roads.md`.
 //!
 //! The student is a steep, erratic function of its training: one road, epoch or seed more or
-//! less swings its failure rate across the whole 0.5–10% band. A student that nears the lane edge
-//! touches it about as often, which gives the BOLP fitness a slope too; the students that hold the
-//! edge off fail none of the reference roads. Every student measured (teachers, noise, road sets,
-//! seeds) and what WOGAN made of each is in `docs/experiments/2026-11-22-dave2-students.md`.
+//! less swings its failure rate across whole bands. Earlier students (teachers, noise, road
+//! sets, seeds) and what WOGAN made of them are in `docs/experiments/2026-11-22-dave2-students.md`.
 
 use crate::dave2_model::Dave2Trainer;
 use rand::{RngExt, SeedableRng};
