@@ -336,7 +336,10 @@ def comparisons_section():
             cells = []
             for measure in MEASURES:
                 ma, mb, p = rows.get(measure, ("–", "–", "–"))
-                cells += [f"{num(float(ma), 2)} / {num(float(mb), 2)}" if ma != "–" else "–", p_text(p)]
+                # A side without runs to measure (a random search with no two failures has no
+                # diversity) shows "–".
+                side = lambda v: "–" if v == "–" else num(float(v), 2)
+                cells += [f"{side(ma)} / {side(mb)}", p_text(p)]
             out(f"| {what} | " + " | ".join(cells) + " |")
 
 

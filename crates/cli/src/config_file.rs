@@ -1,7 +1,8 @@
 //! JSON configuration files: partial objects laid over typed defaults, field by field.
 //!
-//! `wogan run --config` and `wogan train-driver --config` both take such a file, so a user names
-//! only the fields they change and every other field keeps the paper's (or the driver's) default.
+//! `wogan run --config`, `wogan simulate --config` (its `sim` and `driver` sections) and
+//! `wogan train-driver --config` take such a file, so a user names only the fields they change
+//! and every other field keeps the paper's (or the driver's) default.
 
 use anyhow::{bail, Context, Result};
 use road_sim::DriverKind;
