@@ -1,6 +1,6 @@
 //! End-to-end tests of `wogan run`.
 
-use crate::common::{records, scratch_dir, wogan};
+use crate::common::{records, scratch_dir, wogan, write_file};
 use road_sim::Validator;
 use serde_json::Value;
 use std::io::{BufRead, BufReader};
@@ -269,11 +269,7 @@ fn a_config_file_overrides_the_defaults_and_typos_are_named() {
 #[test]
 fn driver_settings_are_read_from_driver_and_older_files_still_read() {
     let dir = scratch_dir("driver-config");
-    let write = |name: &str, json: &str| {
-        let path = dir.join(name);
-        std::fs::write(&path, json).unwrap();
-        path.to_str().unwrap().to_owned()
-    };
+    let write = |name: &str, text: &str| write_file(&dir, name, text);
     let header_of = |oracle: &str, file: &str| {
         let output = wogan(
             &[

@@ -1,6 +1,6 @@
 //! End-to-end tests of `wogan simulate`.
 
-use crate::common::{records, scratch_dir, wogan, wogan_ok};
+use crate::common::{records, scratch_dir, wogan, wogan_ok, write_file};
 use serde_json::Value;
 
 fn reference_roads(count: usize) -> String {
@@ -45,11 +45,7 @@ fn results_are_identical_with_any_number_of_jobs() {
 #[test]
 fn a_config_file_tunes_the_driver_and_names_what_it_cannot_use() {
     let dir = scratch_dir("simulate-config");
-    let write = |name: &str, text: &str| {
-        let path = dir.join(name);
-        std::fs::write(&path, text).unwrap();
-        path.to_str().unwrap().to_owned()
-    };
+    let write = |name: &str, text: &str| write_file(&dir, name, text);
     let roads = reference_roads(20);
     let plain = records(&wogan_ok(&["simulate"], &roads));
     // Planned for twice the lateral acceleration, the driver takes bends faster and nearer the

@@ -14,6 +14,13 @@ pub fn scratch_dir(name: &str) -> PathBuf {
     dir
 }
 
+/// Writes `text` to `dir/name` and returns the path as an argument for the binary.
+pub fn write_file(dir: &std::path::Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("a scratch file");
+    path.to_str().expect("a UTF-8 path").to_owned()
+}
+
 /// Runs `wogan ARGS` with `stdin` as its standard input and waits for it.
 pub fn wogan(args: &[&str], stdin: &str) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_wogan"))

@@ -263,7 +263,7 @@ impl Driver for BeamNgAiProxy {
         let car = observation.car;
         let speed = car.speed_mps;
         let (s, offset_m) = self.locate(car.position);
-        // Speed: read the plan a little ahead and follow it.
+        // Speed: read the plan `speed_preview_s` ahead, so as to brake before a bend.
         let (_, plan_index) = self.point_at(s + speed * p.speed_preview_s, self.segment);
         let target_speed = self.plan_mps[plan_index + 1].min(self.plan_mps[plan_index]);
         let (throttle, brake) = pedals(
@@ -302,6 +302,7 @@ impl Driver for BeamNgAiProxy {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::driver::reference_roads;
     use crate::sim::{simulate, Outcome, Sample, SimConfig, SimResult};
     use crate::validator::Validator;
 
@@ -473,33 +474,13 @@ mod tests {
         assert!(first_slow > 5 && first_slow < 45, "{first_slow}");
     }
 
-    fn roads_of(file: &str) -> Vec<(String, Vec<Point>)> {
-        #[derive(serde::Deserialize)]
-        struct Line {
-            #[serde(default)]
-            generator: String,
-            road_points: Vec<Point>,
-        }
-        let path = format!(
-            "{}/../../tests/reference/{file}",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let text = std::fs::read_to_string(path).unwrap();
-        text.lines()
-            .map(|line| {
-                let line: Line = serde_json::from_str(line).unwrap();
-                (line.generator, line.road_points)
-            })
-            .collect()
-    }
-
     /// The calibration on WOGAN's 75 m random roads (`tests/reference/roads.jsonl`) and on the
     /// SBST 2022 entries' long roads (`tests/reference/peer_roads_dev.jsonl`), at 70 km/h and
     /// tolerance 0.85; `scripts/driver_rates.sh` prints the rates.
     #[test]
     fn fails_rarely_on_long_roads_and_still_on_wogan_roads() {
         let config = SimConfig::default();
-        let wogan: Vec<SimResult> = roads_of("roads.jsonl")
+        let wogan: Vec<SimResult> = reference_roads("roads.jsonl")
             .iter()
             .map(|(_, points)| drive_quietly(points, &config))
             .collect();
@@ -516,7 +497,7 @@ mod tests {
         assert!(graded >= 15, "only {graded} roads with a BOLP above 0.05");
 
         let mut by_generator = std::collections::BTreeMap::<String, (usize, usize)>::new();
-        for (generator, points) in roads_of("peer_roads_dev.jsonl") {
+        for (generator, points) in reference_roads("peer_roads_dev.jsonl") {
             let r = drive_quietly(&points, &config);
             assert_ne!(r.outcome, Outcome::Error, "{generator}");
             let entry = by_generator.entry(generator).or_default();

@@ -255,24 +255,13 @@ mod tests {
     /// DAVE-2 failed about 5% of such roads; `scripts/driver_rates.sh dave2-proxy` measures all.
     #[test]
     fn the_built_in_student_keeps_its_lane_on_long_sharp_roads() {
-        #[derive(serde::Deserialize)]
-        struct Line {
-            generator: String,
-            road_points: Vec<[f64; 2]>,
-        }
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../tests/reference/peer_roads_dev.jsonl"
-        );
-        let text = std::fs::read_to_string(path).unwrap();
         let config = PRESET.sim_config();
-        let failed = text
-            .lines()
-            .map(|line| serde_json::from_str::<Line>(line).unwrap())
-            .filter(|line| line.generator == "ambiegen")
+        let failed = crate::driver::reference_roads("peer_roads_dev.jsonl")
+            .into_iter()
+            .filter(|(generator, _)| generator == "ambiegen")
             .take(30)
-            .filter(|line| {
-                let road = Road::new(&line.road_points).unwrap();
+            .filter(|(_, points)| {
+                let road = Road::new(points).unwrap();
                 let mut driver =
                     Dave2Driver::new(&embedded_weights(), Dave2DriverParams::default());
                 let r = simulate(&road, &mut driver, &config, false, None);

@@ -32,3 +32,26 @@ pub fn pedals(
         (0.0, 0.0)
     }
 }
+
+/// The roads of `tests/reference/FILE` (JSON lines with `road_points`) with each line's
+/// `generator` (empty when it has none), for the drivers' calibration tests.
+#[cfg(test)]
+pub(crate) fn reference_roads(file: &str) -> Vec<(String, Vec<crate::road::Point>)> {
+    #[derive(serde::Deserialize)]
+    struct Line {
+        #[serde(default)]
+        generator: String,
+        road_points: Vec<crate::road::Point>,
+    }
+    let path = format!(
+        "{}/../../tests/reference/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(path).expect("a reference file");
+    text.lines()
+        .map(|line| {
+            let line: Line = serde_json::from_str(line).expect("a road line");
+            (line.generator, line.road_points)
+        })
+        .collect()
+}
