@@ -515,9 +515,9 @@ def long_roads_section():
         try:
             with open(RATES.format(oracle)) as f:
                 for line in f:
-                    # driver_rates.sh prints a 34-character label, then "FAILED / ROADS RATE".
-                    failed, _, roads, rate = line[34:].split()
-                    rates.setdefault(line[:34].strip(), {})[oracle] = f"{rate} ({failed}/{roads})"
+                    # driver_rates.sh prints a label, then "FAILED / ROADS RATE".
+                    *label, failed, _, roads, rate = line.split()
+                    rates.setdefault(" ".join(label), {})[oracle] = f"{rate} ({failed}/{roads})"
         except OSError:
             out(f"No saved rates for {oracle}: make them with `scripts/driver_rates.sh {oracle} > "
                 f"{RATES.format(oracle)}`.")
