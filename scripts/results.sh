@@ -280,7 +280,7 @@ COMPARISONS = [
     ("mutants-vs-paper", "mutants.wogan", "paper.wogan", "`--mutation-share 0.25` against the paper's settings"),
     ("decay995-vs-paper", "decay995.wogan", "paper.wogan", "`--target-decay 0.995` against the paper's settings"),
 ]
-MEASURES = ["failures per run", "diversity", "first failing test"]
+MEASURES = ["failures per run", "diversity", "first failing test", "closest approach"]
 
 
 def table_row(line):
@@ -315,19 +315,22 @@ def comparisons_section():
     out("## Comparisons (Mann–Whitney U, two-sided)")
     out()
     out("A against B: means and the p-value of `wogan report A --vs B --out target/results/NAME` "
-        "(exact up to 20 runs a group). The full reports, with the failure rate after the first "
-        "failing test and the candidates ranked per test, stay in target/results/.")
+        "(exact up to 20 runs a group). Closest approach: a run's largest `fitness_distance`, how "
+        "near the lane's edge the search drove the car (1 at the edge). The full reports, with the "
+        "failure rate after the first failing test and the candidates ranked per test, stay in "
+        "target/results/.")
     for oracle in ORACLES:
         out()
         out(f"### {oracle}")
         out()
-        out("| comparison | failures A / B | p | diversity A / B | p | first failing test A / B | p |")
-        out("|---|---|---|---|---|---|---|")
+        out("| comparison | failures A / B | p | diversity A / B | p | first failing test A / B | p "
+            "| closest approach A / B | p |")
+        out("|---|---|---|---|---|---|---|---|---|")
         for name, a, b, what in COMPARISONS:
             group_a = run_files(oracle, *a.split("."))
             group_b = run_files(oracle, *b.split("."))
             if not group_a or not group_b:
-                out(f"| {what} | runs missing | | | | | |")
+                out(f"| {what} | runs missing | | | | | | | |")
                 continue
             directory = os.path.join(WORK, f"{oracle}-{name}")
             subprocess.run([WOGAN, "report", *group_a, "--vs", *group_b, "--out", directory],

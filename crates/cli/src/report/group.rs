@@ -42,6 +42,9 @@ pub struct RunMeasures {
     /// Mean of the candidates the analyzer ranked per test it chose (the acceptance rule's
     /// selection pressure); `None` when it chose none.
     pub ranked_per_choice: Option<f64>,
+    /// Largest `fitness_distance` of the run's tests: how near the lane's edge the search drove
+    /// the car, the one sign of progress against a driver it never breaks; `None` without tests.
+    pub closest_approach: Option<f64>,
     /// The SBST competition's measures.
     pub sbst: SbstMeasures,
 }
@@ -88,6 +91,11 @@ impl RunMeasures {
             failure_rate_after_first: (tests_after_first > 0)
                 .then(|| (failures - 1) as f64 / tests_after_first as f64),
             ranked_per_choice: mean(&ranked),
+            closest_approach: run
+                .tests
+                .iter()
+                .filter_map(|t| known(t.execution.result.fitness_distance))
+                .reduce(f64::max),
             sbst: SbstMeasures::of(run),
         }
     }
@@ -300,5 +308,15 @@ mod tests {
             RunMeasures::of(&run_of(&[Outcome::Pass])).ranked_per_choice,
             None
         );
+    }
+
+    #[test]
+    fn closest_approach_is_the_largest_fitness_distance_of_a_run() {
+        let mut run = run_of(&[Outcome::Pass, Outcome::Pass, Outcome::Pass]);
+        for (test, distance) in run.tests.iter_mut().zip([0.2, 0.45, 0.1]) {
+            test.execution.result.fitness_distance = distance;
+        }
+        assert_eq!(RunMeasures::of(&run).closest_approach, Some(0.45));
+        assert_eq!(RunMeasures::of(&run_of(&[])).closest_approach, None);
     }
 }

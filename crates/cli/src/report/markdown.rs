@@ -81,9 +81,9 @@ pub fn report(sections: &[GroupSection], compare: bool, problems: &[String]) -> 
     text
 }
 
-/// How a search met and exploited failures, per run: a row of each group's table, and one of the
-/// comparison.
-const EXPLOITATION: [(&str, Measure); 3] = [
+/// How a search met and exploited failures (and how near it came when it met none), per run: a
+/// row of each group's table, and one of the comparison.
+const EXPLOITATION: [(&str, Measure); 4] = [
     (
         "first failing test (a run without one: tests executed + 1)",
         |m| Some(m.first_failure_or_past_end()),
@@ -95,6 +95,10 @@ const EXPLOITATION: [(&str, Measure); 3] = [
     ("candidates ranked per test the analyzer chose", |m| {
         m.ranked_per_choice
     }),
+    (
+        "closest approach (largest fitness_distance of a run)",
+        |m| m.closest_approach,
+    ),
 ];
 
 /// The SBST competition's measures per run, as its pipeline computes them: a table of each group,
