@@ -31,15 +31,16 @@ rate() { # LABEL FAILED TOTAL
 "$wogan" simulate "${options[@]}" --jobs 2 tests/reference/roads.jsonl >"$work/wogan75"
 rate "WOGAN 75 m random roads (300)" "$(grep -c '"outcome":"FAIL"' "$work/wogan75" || true)" 300
 random_runs() { # LABEL CURVATURE-POINTS SEEDS: `wogan run --algorithm random`, 300 roads a seed
-  local seed failed
+  local seed failed roads
   [ -n "$3" ] || return 0
+  roads=$(( 300 * $(echo "$3" | wc -w) ))
   for seed in $3; do
     "$wogan" run --quiet "${options[@]}" --algorithm random --curvature-points "$2" \
       --max-tests 300 --seed "$seed" --jobs 2 --out "$work/random.$2.$seed"
   done
   failed=$(cat "$work"/random."$2".* | grep '"type":"summary"' | grep -o '"failed":[0-9]*' |
     cut -d: -f2 | paste -sd+ | bc)
-  rate "$1 ($(( 300 * $(echo "$3" | wc -w) )))" "$failed" "$(( 300 * $(echo "$3" | wc -w) ))"
+  rate "$1 ($roads)" "$failed" "$roads"
 }
 random_runs "WOGAN 75 m random roads, own" 5 "${SHORT_SEEDS-1 2 3 4 5}"
 head -n "${DEV_ROADS:-900}" "$dev" >"$work/dev_roads"
