@@ -745,7 +745,8 @@ def training_section():
     if not os.path.exists(path):
         out(f"No saved training output at `{path}`. Make it with "
             f"`wogan train-driver --seed 1 --out target/results/dave2.bin > {path}` "
-            "(the defaults reproduce the built-in weights); the figures of an earlier session are below.")
+            "(the defaults trained the built-in weights; on another CPU they train a different student); "
+            "the figures of an earlier session are below.")
         return False
     record = next((json.loads(l) for l in open(path) if l.strip().startswith("{")), {})
     when = time.strftime("%Y-%m-%d", time.gmtime(os.path.getmtime(path)))
@@ -753,6 +754,16 @@ def training_section():
         f"{num(find_key(record, 'student_rmse_deg'), 2)}° (best constant steering "
         f"{num(find_key(record, 'constant_rmse_deg'), 2)}°, untrained network "
         f"{num(find_key(record, 'untrained_rmse_deg'), 2)}°), {num((find_key(record, 'seconds') or 0) / 60, 1)} minutes.")
+    # Whether this machine's training gave the built-in weights: the same seed does on the same
+    # CPU, but gemm blocks its sums by the caches it detects (docs/reference.md).
+    weights, built_in = record.get("weights"), "crates/road-sim/weights/dave2-proxy.bin"
+    if weights and os.path.exists(weights):
+        same = open(weights, "rb").read() == open(built_in, "rb").read()
+        out()
+        out(f"The weights it wrote (`{weights}`) are " + ("bit for bit the built-in ones." if same else
+            "not the built-in ones: this CPU rounds the training's matrix products differently from "
+            "the one that trained them. Their failure rates: `scripts/driver_rates.sh dave2-proxy \"\" "
+            f"{weights}`."))
     return True
 
 

@@ -403,7 +403,7 @@ fn an_execution_budget_ends_the_run_as_the_pipeline_does() {
 }
 
 #[test]
-fn a_dave2_proxy_run_searches_the_distance_fitness() {
+fn a_dave2_proxy_run_searches_bolp_at_the_papers_decay() {
     let (code, records) = run(&[
         "--oracle",
         "dave2-proxy",
@@ -415,16 +415,14 @@ fn a_dave2_proxy_run_searches_the_distance_fitness() {
     assert_eq!(code, Some(0));
     let header = &records[0];
     assert_eq!(header["oracle"], "dave2-proxy");
-    assert_eq!(header["fitness"], "distance");
+    assert_eq!(header["fitness"], "bolp");
     assert_eq!(header["config"]["sim"]["oob_tolerance"], 0.1);
     assert_eq!(header["config"]["sim"]["speed_limit_kmh"], 25.0);
-    // The distance fails at 0.44 where BOLP fails at 0.10: its decay is matched to BOLP's 0.95.
-    let decay = target_decay(header);
-    assert!((decay - 0.9816).abs() < 1e-4, "{decay}");
+    assert_eq!(target_decay(header), 0.95);
     let tests = of_type(&records, "test");
     assert_eq!(tests.len(), 10);
     for test in &tests {
-        assert_eq!(test["fitness"], test["fitness_distance"]);
+        assert_eq!(test["fitness"], test["max_bolp"]);
     }
     assert_eq!(records.last().unwrap()["type"], "summary");
 }

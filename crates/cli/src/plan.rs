@@ -48,8 +48,7 @@ pub struct RunArgs {
     /// Tests simulated at once where they are independent (the random phase).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
     pub jobs: u32,
-    /// What the search maximises: bolp, bolp-scaled or distance [default: bolp for
-    /// beamng-ai-proxy, distance for dave2-proxy].
+    /// What the search maximises: bolp, bolp-scaled or distance [default: bolp, the paper's].
     #[arg(long, value_parser = fitness_kind)]
     pub fitness: Option<FitnessKind>,
     /// Curvature values per road (the road has one point more).

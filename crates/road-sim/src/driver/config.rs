@@ -183,7 +183,7 @@ mod tests {
         assert_eq!(beamng.fitness, FitnessKind::Bolp);
         let dave2 = DriverKind::Dave2Proxy.preset();
         assert_eq!((dave2.oob_tolerance, dave2.speed_limit_kmh), (0.10, 25.0));
-        assert_eq!(dave2.fitness, FitnessKind::Distance);
+        assert_eq!(dave2.fitness, FitnessKind::Bolp);
         assert_eq!(beamng.sim_config(), SimConfig::default());
     }
 }
