@@ -762,8 +762,8 @@ def training_section():
         out()
         out(f"The weights it wrote (`{weights}`) are " + ("bit for bit the built-in ones." if same else
             "not the built-in ones: this CPU rounds the training's matrix products differently from "
-            "the one that trained them. Their failure rates: `scripts/driver_rates.sh dave2-proxy \"\" "
-            f"{weights}`."))
+            "the one that trained them. Measure their failure rates with `scripts/driver_rates.sh "
+            f"dave2-proxy \"\" {weights}`."))
     return True
 
 
