@@ -16,7 +16,7 @@ use std::sync::{Arc, OnceLock};
 
 /// How `dave2-proxy` is judged unless told otherwise: the competition's oob tolerance for DAVE-2
 /// (0.10) at its 2024 speed of 25 km/h, searched on the paper's BOLP fitness (the lane distance,
-/// which has a slope where BOLP is 0, found no more failing roads against the built-in student:
+/// which has a slope where BOLP is 0, found fewer failing roads against the built-in student:
 /// docs/experiments/2026-11-22-search-options.md).
 pub const PRESET: DriverPreset = DriverPreset {
     oob_tolerance: 0.10,
