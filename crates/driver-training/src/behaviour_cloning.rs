@@ -34,6 +34,28 @@ use road_sim::{CurvatureRoad, Road, Validator};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
+/// The teacher that recorded the built-in student: `beamng-ai-proxy` as calibrated on
+/// 2026-11-23 (look-ahead 5 m + 0.3 s, which keeps near the lane centre at the student's 25 km/h).
+/// It is fixed here, apart from the proxy's defaults, so that `train-driver`'s defaults still
+/// make that student when the proxy is recalibrated as a driver under test.
+pub const BUILT_IN_STUDENT_TEACHER: BeamNgAiParams = BeamNgAiParams {
+    aggression: 0.7,
+    lateral_grip_base: 0.3,
+    lateral_grip_per_aggression: 0.735,
+    brake_base: 0.3,
+    brake_per_aggression: 0.4,
+    lookahead_base_m: 5.0,
+    lookahead_time_s: 0.3,
+    steering_gain: 1.0,
+    plan_half_chord_m: 3.0,
+    speed_preview_s: 1.0,
+    throttle_gain: 0.5,
+    brake_gain: 1.0,
+    brake_deadband_mps: 0.5,
+    lift_off_offset_m: Some(1.8),
+    control_hz: 30.0,
+};
+
 /// How the student is trained.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -61,7 +83,7 @@ pub struct CloningConfig {
     pub noise_max_rad: f64,
     /// Shortest and longest time one perturbation is held, seconds.
     pub noise_hold_s: (f64, f64),
-    /// The teacher's settings (the proxy's own by default, corner cutting included).
+    /// The teacher's settings ([`BUILT_IN_STUDENT_TEACHER`] by default).
     pub teacher: BeamNgAiParams,
     /// Passes over the training frames.
     pub epochs: usize,
@@ -88,7 +110,7 @@ impl Default for CloningConfig {
             record_hz: 10.0,
             noise_max_rad: 0.096,
             noise_hold_s: (0.3, 1.2),
-            teacher: BeamNgAiParams::default(),
+            teacher: BUILT_IN_STUDENT_TEACHER,
             epochs: 4,
             batch_size: 64,
             learning_rate: 3e-4,

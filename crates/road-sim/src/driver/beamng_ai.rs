@@ -8,19 +8,19 @@
 //! pass brakes at `g * (brake_base + brake_per_aggression * aggression)` in time for each corner,
 //! so every braking distance is looked ahead over. The car follows the plan read
 //! `speed_preview_s` ahead with a proportional controller: it brakes before a bend and, at the
-//! same preview, starts accelerating for a bend's exit while still in it. It lifts off the
-//! throttle when it finds itself `lift_off_offset_m` from the lane centre, which catches a slide
-//! in a long bend but comes too late in a short, sharp one.
+//! same preview, starts accelerating for a bend's exit while still in it. Optionally it lifts off
+//! the throttle when it finds itself `lift_off_offset_m` from the lane centre.
 //!
 //! Steering is pure pursuit on the right lane's centre line: the front wheels are turned so that
 //! the rear axle would follow a circle through a target point one look-ahead distance ahead on the
 //! lane centre (look-ahead = base + time x speed). On a bend the circle through the target lies
-//! inside the lane's centre, so the car cuts corners, more so at speed.
+//! inside the lane's centre, so the car cuts corners.
 //!
-//! The aggression's lateral acceleration sits close to what the car's tyres hold, so the driver
-//! leaves its lane where it accelerates out of a bend it is still taking at that limit. How the
-//! defaults were calibrated on WOGAN's roads and on the competition's long roads, and what every
-//! candidate measured: `docs/experiments/2026-11-23-drivers-on-long-roads.md`.
+//! By default the driver plans its braking gently and early, so it enters bends at its plan, and
+//! it leaves its lane where it accelerates out of a bend it is still taking near the tyres' limit
+//! and runs wide, mostly over the centre line of a right bend (its lane is the inner one there).
+//! How the defaults were calibrated on WOGAN's roads and on the competition's long roads, and
+//! what every candidate measured: `docs/experiments/2026-11-23-drivers-on-long-roads.md`.
 
 use super::config::DriverPreset;
 use super::pedals;
@@ -72,9 +72,10 @@ pub struct BeamNgAiParams {
     /// Excess speed tolerated before braking, metres per second.
     pub brake_deadband_mps: f64,
     /// Distance of the car from the lane centre beyond which the driver lifts off the throttle,
-    /// metres: it sees itself running wide and stops feeding the slide. It reacts to what has
-    /// happened, so a long bend taken too fast is caught and a short sharp one is not.
-    pub lift_off_offset_m: f64,
+    /// metres (`null`: never): it sees itself running wide and stops feeding the slide. It
+    /// reacts to what has happened, so a long bend taken too fast is caught and a short sharp
+    /// one is not.
+    pub lift_off_offset_m: Option<f64>,
     /// Control rate, hertz.
     pub control_hz: f64,
 }
@@ -84,18 +85,18 @@ impl Default for BeamNgAiParams {
         Self {
             aggression: 0.7,
             lateral_grip_base: 0.3,
-            lateral_grip_per_aggression: 0.735,
-            brake_base: 0.3,
-            brake_per_aggression: 0.4,
-            lookahead_base_m: 5.0,
-            lookahead_time_s: 0.3,
+            lateral_grip_per_aggression: 0.70,
+            brake_base: 0.16,
+            brake_per_aggression: 0.2,
+            lookahead_base_m: 12.0,
+            lookahead_time_s: 0.0,
             steering_gain: 1.0,
-            plan_half_chord_m: 3.0,
-            speed_preview_s: 1.0,
-            throttle_gain: 0.5,
+            plan_half_chord_m: 4.0,
+            speed_preview_s: 1.1,
+            throttle_gain: 0.45,
             brake_gain: 1.0,
             brake_deadband_mps: 0.5,
-            lift_off_offset_m: 1.8,
+            lift_off_offset_m: None,
             control_hz: 30.0,
         }
     }
@@ -104,7 +105,7 @@ impl Default for BeamNgAiParams {
 impl BeamNgAiParams {
     /// Names the first setting the driver cannot work with.
     pub fn validate(&self) -> Result<(), SettingsError> {
-        let settings = [
+        let mut settings = vec![
             ("aggression", self.aggression),
             ("lateral_grip_base", self.lateral_grip_base),
             (
@@ -121,8 +122,10 @@ impl BeamNgAiParams {
             ("throttle_gain", self.throttle_gain),
             ("brake_gain", self.brake_gain),
             ("brake_deadband_mps", self.brake_deadband_mps),
-            ("lift_off_offset_m", self.lift_off_offset_m),
         ];
+        if let Some(offset_m) = self.lift_off_offset_m {
+            settings.push(("lift_off_offset_m", offset_m));
+        }
         all_non_negative("driver.", &settings)?;
         all_positive("driver.", &[("control_hz", self.control_hz)])
     }
@@ -272,11 +275,8 @@ impl Driver for BeamNgAiProxy {
             p.brake_gain,
             p.brake_deadband_mps,
         );
-        let throttle = if offset_m > p.lift_off_offset_m {
-            0.0
-        } else {
-            throttle
-        };
+        let running_wide = p.lift_off_offset_m.is_some_and(|limit| offset_m > limit);
+        let throttle = if running_wide { 0.0 } else { throttle };
         // Steering: pure pursuit from the rear axle.
         let (sin_h, cos_h) = car.heading_rad.sin_cos();
         let rear = [
@@ -467,7 +467,7 @@ mod tests {
         let plan = driver.speed_plan();
         assert!((plan[0] - limit).abs() < 1e-9);
         let min = plan.iter().cloned().fold(f64::INFINITY, f64::min);
-        // Lane radius 22 m, planned at 0.3 + 0.735 x 0.7 = 0.81 g: about 13.3 m/s (a little less
+        // Lane radius 22 m, planned at 0.3 + 0.70 x 0.7 = 0.79 g: about 13.1 m/s (a little less
         // over the chord).
         assert!(min > 12.0 && min < 13.5, "min {min}");
         let first_slow = plan.iter().position(|&v| v < limit - 0.1).unwrap();
@@ -487,9 +487,9 @@ mod tests {
         assert_eq!(wogan.len(), 300);
         assert!(wogan.iter().all(|r| r.outcome != Outcome::Error));
         let failed = wogan.iter().filter(|r| r.outcome == Outcome::Fail).count();
-        // The issue's band is 3-24 roads; the calibration note says why this driver fails fewer.
+        // The issue's band: 1-8% of them.
         assert!(
-            (1..=24).contains(&failed),
+            (3..=24).contains(&failed),
             "{failed} of 300 WOGAN roads failed"
         );
         // Some slope for the BOLP fitness to climb.
@@ -519,11 +519,29 @@ mod tests {
         );
     }
 
+    /// Run files made before the lift-off became optional name it as a number; they still read.
+    #[test]
+    fn lift_off_reads_as_a_number_or_null() {
+        let old: BeamNgAiParams = serde_json::from_str(r#"{"lift_off_offset_m": 1.8}"#).unwrap();
+        assert_eq!(old.lift_off_offset_m, Some(1.8));
+        let off: BeamNgAiParams = serde_json::from_str(r#"{"lift_off_offset_m": null}"#).unwrap();
+        assert_eq!(off.lift_off_offset_m, None);
+        let negative = BeamNgAiParams {
+            lift_off_offset_m: Some(-1.0),
+            ..BeamNgAiParams::default()
+        };
+        let problem = negative.validate().unwrap_err();
+        assert_eq!(problem.setting, "driver.lift_off_offset_m");
+    }
+
     #[test]
     fn lifts_off_the_throttle_when_it_runs_wide() {
         let road = Road::new(&arc_road(100.0, 10.0, 30.0, 40.0, 1.5)).unwrap();
         let vehicle = VehicleParams::default();
-        let mut driver = BeamNgAiProxy::new(BeamNgAiParams::default());
+        let mut driver = BeamNgAiProxy::new(BeamNgAiParams {
+            lift_off_offset_m: Some(1.8),
+            ..BeamNgAiParams::default()
+        });
         driver.reset(&road, &vehicle, 70.0 / 3.6);
         let lane = road.right_lane_centre();
         let observe = |position: Point| {
