@@ -2,12 +2,12 @@
 """Run stgem's own WOGAN (the authors' PyTorch implementation) against our simulator.
 
 Dev-time only: CI never runs this. It needs torch, numpy, dill, shapely, scipy, click and
-multiprocess (`pip install torch dill shapely scipy click multiprocess`) and a checkout of stgem
-(the public `mshaheryarmalik/stgem`, unpacked with `git archive`; default /work/stgem or
-$STGEM_DIR). Nothing of stgem is
-copied here: the script imports stgem, and reads the SBST 2022 set-up (`wogan_parameters`,
-`wogan_model_parameters`, `UniformDependent`, `MaxOOB`, `ScaledDistance`) from the checkout's
-problems/sbst/sbst.py.
+multiprocess (`pip install torch==2.15.0 dill shapely scipy click multiprocess`: the figures in
+docs/results.md were made under torch 2.15.0; under another version the same seeds gave other
+figures) and a checkout of stgem (the public `mshaheryarmalik/stgem`, unpacked with
+`git archive`; default /work/stgem or $STGEM_DIR). Nothing of stgem is copied here: the script
+imports stgem, and reads the SBST 2022 set-up (`wogan_parameters`, `wogan_model_parameters`,
+`UniformDependent`, `MaxOOB`, `ScaledDistance`) from the checkout's problems/sbst/sbst.py.
 
 Set-up per seed, as in the paper's SBST experiments but with an execution budget:
   STGEM(sut=WoganSUT, budget=Budget(), objectives=[MaxOOB()], ObjectiveSelectorAll(), steps=[
