@@ -5,15 +5,16 @@
 #   scripts/output_parity.sh BIN DIR      e.g. scripts/output_parity.sh target/release/wogan /tmp/after
 #
 # Masked fields (they measure the machine, not the result): generation_ms, execution_ms, wall_s,
-# generation_s, training_s, simulation_s and train records' train_ms; in the export's CSV, the
-# real-time columns.
+# generation_s, training_s, simulation_s, train records' train_ms and the SBST charges of real time
+# (sbst_generation_ms, sbst_generation_s); in the export's CSV, the real-time columns. The report
+# names its run files as given, so they are given relative to the checkout.
 set -euo pipefail
 bin=$(realpath "$1")
-out=$2
+out=$(realpath -m "$2")
 here=$(cd "$(dirname "$0")/.." && pwd)
 roads=$here/tests/reference/roads.jsonl
 mkdir -p "$out"
-mask='walk(if type == "object" then with_entries(if (.key | IN("generation_ms","execution_ms","wall_s","generation_s","training_s","simulation_s","train_ms")) then .value = "masked" else . end) else . end)'
+mask='walk(if type == "object" then with_entries(if (.key | IN("generation_ms","execution_ms","wall_s","generation_s","training_s","simulation_s","train_ms","sbst_generation_ms","sbst_generation_s")) then .value = "masked" else . end) else . end)'
 masked() { jq -c "$mask"; }
 
 for oracle in beamng-ai-proxy dave2-proxy; do
@@ -30,7 +31,7 @@ rm -r "$out/trace"
 { head -n 50 "$roads"; echo '[[0, 0], [1, 1]]'; echo '{"curvature": [0.5, 0.5, 0.5]}'; echo 'not json'; } \
   | "$bin" validate > "$out/validate.jsonl" || true
 # Reports and the export are made from the committed fixtures, whose timings are fixed.
-"$bin" report "$here"/tests/fixtures/wogan.seed*.jsonl --vs "$here"/tests/fixtures/random.seed*.jsonl --out "$out/report" > /dev/null
+(cd "$here" && "$bin" report tests/fixtures/wogan.seed*.jsonl --vs tests/fixtures/random.seed*.jsonl --out "$out/report" > /dev/null)
 "$bin" export "$out/run.beamng-ai-proxy.raw.jsonl" "$out/export" > /dev/null
 for f in "$out"/export/*.json; do jq -S "$mask" "$f" > "$f.masked" && mv "$f.masked" "$f"; done
 # generation_stats.csv: keep the counts and the simulated time, drop the two real-time columns.

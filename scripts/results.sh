@@ -15,9 +15,9 @@
 #   target/criterion/**/new/estimates.json                 cargo bench (commands in the output)
 #   target/results/train-driver.json (optional)            wogan train-driver --seed 1 ... (below)
 #   tests/reference/*.jsonl                                the competition's vectors
-# What it runs: `wogan report A --vs B` per comparison (reports in target/results/NAME/, the
-# p-values lifted from each report.md), and `wogan simulate` / `wogan validate` on the reference
-# roads (about a minute: dave2-proxy renders and infers 300 drives).
+# What it runs: `wogan report ... --table`, whose tables of run files it includes as they are,
+# and `wogan simulate` / `wogan validate` on the reference roads (about a minute: dave2-proxy
+# renders and infers 300 drives).
 #
 # Missing run files stop it with the list and the commands that make them, unless ALLOW_MISSING=1.
 # SEEDS (default 1-20) and ORACLES narrow the set. Python 3 (stdlib only) does the arithmetic.
@@ -114,10 +114,6 @@ def median(values):
     return statistics.median(values) if values else None
 
 
-def mean(values):
-    return statistics.fmean(values) if values else None
-
-
 def num(x, digits=1):
     """A figure as people write it: no trailing zeros, '–' when there is nothing to show."""
     if x is None:
@@ -163,41 +159,15 @@ def machine():
 
 
 # ---------------------------------------------------------------------------------------------
-# One run file, reduced to what the tables need. Works for our runs and for stgem's (the same
-# record types; stgem's summary adds `crashed` and `error`).
-def run_stats(path):
-    records = read_jsonl(path)
-    header = next((r for r in records if r.get("type") == "header"), {})
-    tests = [r for r in records if r.get("type") == "test"]
-    summary = next((r for r in records if r.get("type") == "summary"), None)
-    first = next((t.get("id", i + 1) for i, t in enumerate(tests) if t.get("outcome") == "FAIL"), None)
-    executed = summary["executed"] if summary else len(tests)
-    wanted = header.get("config", {}).get("max_tests")
-    # What a candidate costs: the search's generation time over the candidates it drew (valid
-    # ones ranked plus invalid ones), outside the random phase. It is why a slower acceptance
-    # decay is affordable here (the paper's generator spent seconds per test).
-    chosen = [t for t in tests if t.get("phase") != "random"]
-    candidates = sum((t.get("invalid_candidates") or 0) + (t.get("ranked_candidates") or 0) for t in chosen)
-    problem = None
-    if summary is None:
-        problem = "no summary (unfinished)"
-    elif summary.get("error"):
-        problem = f"ended by an error after {executed} tests: {summary['error']}"
-    elif summary.get("interrupted"):
-        problem = f"interrupted after {executed} tests"
-    elif wanted and executed < wanted:
-        problem = f"{executed} of {wanted} tests"
-    return {
-        "header": header,
-        "failed": summary["failed"] if summary else sum(t.get("outcome") == "FAIL" for t in tests),
-        "diversity": summary.get("diversity") if summary else None,
-        "invalid": summary.get("invalid_candidates") if summary else None,
-        # As `wogan report` counts it: a run without a failing test scores executed + 1.
-        "first_fail": first if first is not None else executed + 1,
-        "generation_ms": sum(t.get("generation_ms") or 0 for t in chosen),
-        "candidates": candidates,
-        "problem": problem,
-    }
+# The tables of run files are `wogan report --table`'s own: this page and a report cannot disagree.
+def report_table(*args):
+    """The Markdown tables `wogan report ARGS --table` prints; its stderr names bad run files."""
+    done = subprocess.run([WOGAN, "report", *args, "--table"], capture_output=True, text=True)
+    if done.returncode not in (0, 1):
+        sys.exit(f"results.sh: wogan report {' '.join(args)} --table failed: {done.stderr.strip()}")
+    for line in done.stderr.splitlines():
+        print(f"results.sh: {line}", file=sys.stderr)
+    return done.stdout.rstrip("\n").split("\n")
 
 
 def run_files(oracle, tag, algorithm):
@@ -208,192 +178,94 @@ def run_files(oracle, tag, algorithm):
     return [p for p in paths if os.path.exists(p)]
 
 
-def describe(header):
-    """The options a setting ran with, read from its header rather than assumed."""
-    search = header.get("config", {}).get("search", {})
-    if header.get("algorithm") == "random":
-        return "`--algorithm random`"
-    if header.get("algorithm") == "stgem-wogan":
-        return "stgem's WOGAN (the authors' code), objective 1 − max BOLP"
-    wogan = search.get("wogan", {})
-    share = wogan.get("mutation", {}).get("share", 0)
-    return (f"`--fitness {header.get('fitness')} --target-decay {num(wogan.get('target_decay'), 4)}"
-            f" --mutation-share {num(share, 2)}`")
-
-
 # ---------------------------------------------------------------------------------------------
-# The search figures: per oracle and setting, over the seeds present.
-def search_section(problems):
+# The search figures: per oracle, one row per setting, over the seeds present.
+def search_section():
     out("## Search: failing roads in 300 tests")
     out()
-    out("Each row: one setting, seeds " + f"{SEEDS[0]}–{SEEDS[-1]}" + ", 300 executed tests per run. "
-        "Failures and first failing test: median (mean). Diversity: median of the runs with ≥ 2 "
-        "failing roads (the paper's measure, the summary's `diversity`). First failing test: its "
-        "position in the run, executed + 1 when there is none (as `wogan report` counts it); a seed's "
-        "60 random tests are the same in every setting, so it often falls among them. µs per "
-        "candidate: generation time after the random phase over the candidates drawn there (valid "
-        "and invalid), all runs pooled; a test's fixed costs weigh more when it draws few candidates.")
+    out("Each row: one setting (its configuration as the run headers give it; stgem's WOGAN is "
+        "`stgem-wogan`), seeds " + f"{SEEDS[0]}–{SEEDS[-1]}" + ", 300 executed tests per run, as "
+        "`wogan report RUN... --table` tabulates them. Failing roads and first failing test: "
+        "median (mean). Diversity: median of the runs with ≥ 2 failing roads (the paper's "
+        "measure). First failing test: its position in the run, executed + 1 when there is none; "
+        "a seed's 60 random tests are the same in every setting, so it often falls among them. "
+        "Closest approach: median of each run's largest `fitness_distance`. µs per candidate: "
+        "generation time after the random phase over the candidates drawn there (valid and "
+        "invalid), all runs pooled; stgem's includes a `wogan validate` process per candidate. "
+        "Runs that ended early are listed under the table.")
     out()
     out("Runs: `scripts/search_figures.sh` (ours, in target/effectiveness/), "
         "`python3 scripts/reference/stgem_search.py --oracle ORACLE --seeds 1-20` (stgem's, in target/stgem/).")
     for oracle in ORACLES:
+        files = [f for tag, algorithm in SETTINGS + [["stgem", "stgem"]]
+                 for f in run_files(oracle, tag, algorithm)]
         out()
         out(f"### {oracle}")
         out()
-        out("| setting | options (from the run headers) | runs | failures | diversity | first failing test | invalid candidates per run (median) | µs per candidate |")
-        out("|---|---|---|---|---|---|---|---|")
-        for tag, algorithm in SETTINGS + [["stgem", "stgem"]]:
-            paths = run_files(oracle, tag, algorithm)
-            if not paths:
-                out(f"| {tag} | – | 0 (missing) | | | | | |")
-                continue
-            stats = [run_stats(p) for p in paths]
-            for p, s in zip(paths, stats):
-                if s["problem"]:
-                    problems.append((p, s["problem"], oracle, tag))
-            failed = [s["failed"] for s in stats]
-            diversity = [s["diversity"] for s in stats if s["diversity"] is not None]
-            firsts = [s["first_fail"] for s in stats]
-            invalid = [s["invalid"] for s in stats if s["invalid"] is not None]
-            candidates = sum(s["candidates"] for s in stats)
-            per_candidate = 1000 * sum(s["generation_ms"] for s in stats) / candidates if candidates else None
-            cost = num(per_candidate, 0)
-            if tag == "stgem" and per_candidate:
-                cost += " (includes a `wogan validate` process per candidate)"
-            div_text = num(median(diversity), 2)
-            if len(diversity) < len(stats):
-                div_text += f" ({len(diversity)} runs)"
-            out(f"| {tag} | {describe(stats[0]['header'])} | {len(stats)} | "
-                f"{num(median(failed))} ({num(mean(failed))}) | {div_text} | "
-                f"{num(median(firsts))} ({num(mean(firsts))}) | {num(median(invalid))} | {cost} |")
+        if not files:
+            out("No runs.")
+            continue
+        for line in report_table(*files):
+            out(line)
 
 
 # ---------------------------------------------------------------------------------------------
-# The comparisons that decided the defaults, each by `wogan report A --vs B`: the binary's own
-# Mann–Whitney test, so that this page and a report never disagree.
+# The comparisons that decided the defaults, each by `wogan report A --vs B --table`: the binary's
+# own Mann–Whitney test.
 COMPARISONS = [
-    ("paper-vs-random", "paper.wogan", "random.random", "the paper's settings against random search"),
-    ("paper-vs-stgem", "paper.wogan", "stgem.stgem", "ours at the paper's settings against stgem's WOGAN"),
-    ("distance-vs-bolp", "distance.wogan", "paper.wogan", "distance fitness at 0.95 against BOLP"),
-    ("matched-vs-bolp", "distance-matched.wogan", "paper.wogan", "distance at its matched decay against BOLP"),
-    ("matched-vs-distance", "distance-matched.wogan", "distance.wogan", "distance: matched decay against 0.95"),
-    ("mutants-vs-paper", "mutants.wogan", "paper.wogan", "`--mutation-share 0.25` against the paper's settings"),
-    ("decay995-vs-paper", "decay995.wogan", "paper.wogan", "`--target-decay 0.995` against the paper's settings"),
+    ("paper.wogan", "random.random", "the paper's settings against random search"),
+    ("paper.wogan", "stgem.stgem", "ours at the paper's settings against stgem's WOGAN"),
+    ("distance.wogan", "paper.wogan", "distance fitness at 0.95 against BOLP"),
+    ("distance-matched.wogan", "paper.wogan", "distance at its matched decay against BOLP"),
+    ("distance-matched.wogan", "distance.wogan", "distance: matched decay against 0.95"),
+    ("mutants.wogan", "paper.wogan", "`--mutation-share 0.25` against the paper's settings"),
+    ("decay995.wogan", "paper.wogan", "`--target-decay 0.995` against the paper's settings"),
 ]
-MEASURES = ["failures per run", "diversity", "first failing test", "closest approach"]
-
-
-def table_row(line):
-    """The cells of a Markdown table's data row; None for any other line (its header included)."""
-    if not line.startswith("| ") or line.startswith("| measure"):
-        return None
-    return [c.strip() for c in line.strip().strip("|").split("|")]
-
-
-def report_rows(path):
-    """The comparison table of a report.md: measure → (A mean, B mean, p)."""
-    rows, on = {}, False
-    for line in open(path):
-        if line.startswith("## "):
-            on = line.startswith("## Comparison")
-        elif on and (cells := table_row(line)):
-            name = cells[0].split(" (")[0]
-            rows[name] = (cells[1].split(" ")[0], cells[2].split(" ")[0], cells[4])
-    return rows
-
-
-def p_text(p):
-    try:
-        value = float(p)
-    except ValueError:
-        return p
-    return "< 0.0001" if value < 0.0001 else f"{value:.4f}".rstrip("0").rstrip(".")
+# The rows of each comparison shown here (the full table has every measure of the report).
+MEASURES = ("| failures per run ", "| diversity ", "| first failing test", "| closest approach")
 
 
 def comparisons_section():
     out()
     out("## Comparisons (Mann–Whitney U, two-sided)")
     out()
-    out("A against B: means and the p-value of `wogan report A --vs B --out target/results/NAME` "
-        "(exact up to 20 runs a group). Closest approach: a run's largest `fitness_distance`, how "
-        "near the lane's edge the search drove the car (1 at the edge). The full reports, with the "
-        "failure rate after the first failing test and the candidates ranked per test, stay in "
-        "target/results/.")
+    out("A against B, as `wogan report A --vs B --table` gives them (exact up to 20 runs a "
+        "group), four of its rows: failing roads per run, the paper's diversity, the first failing "
+        "test and the closest approach (a run's largest `fitness_distance`, 1 at the lane's edge).")
     for oracle in ORACLES:
         out()
         out(f"### {oracle}")
-        out()
-        out("| comparison | failures A / B | p | diversity A / B | p | first failing test A / B | p "
-            "| closest approach A / B | p |")
-        out("|---|---|---|---|---|---|---|---|---|")
-        for name, a, b, what in COMPARISONS:
+        for a, b, what in COMPARISONS:
             group_a = run_files(oracle, *a.split("."))
             group_b = run_files(oracle, *b.split("."))
+            out()
+            out(f"#### {what}")
+            out()
             if not group_a or not group_b:
-                out(f"| {what} | runs missing | | | | | | | |")
+                out("Runs missing.")
                 continue
-            directory = os.path.join(WORK, f"{oracle}-{name}")
-            subprocess.run([WOGAN, "report", *group_a, "--vs", *group_b, "--out", directory],
-                           check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            rows = report_rows(os.path.join(directory, "report.md"))
-            cells = []
-            for measure in MEASURES:
-                ma, mb, p = rows.get(measure, ("–", "–", "–"))
-                # A side without runs to measure (a random search with no two failures has no
-                # diversity) shows "–".
-                side = lambda v: "–" if v == "–" else num(float(v), 2)
-                cells += [f"{side(ma)} / {side(mb)}", p_text(p)]
-            out(f"| {what} | " + " | ".join(cells) + " |")
+            for line in report_table(*group_a, "--vs", *group_b):
+                if not line.startswith("| ") or line.startswith(("| measure ",) + MEASURES):
+                    out(line)
 
 
 # ---------------------------------------------------------------------------------------------
 # Under the SBST 2022 competition's budgets (scripts/sbst_budget_runs.sh: 1 h generation, 2 h
 # simulated execution), with the competition's measures as `wogan report` computes them.
-SBST_ROWS = [
-    ("tests generated (handed to execution)", "tests generated"),
-    ("failures", "failures"),
-    ("invalid candidates rejected before proposing", "invalid candidates rejected before proposing"),
-    ("efficiency (generation time per test, ms)", "efficiency: generation time charged per test (ms)"),
-    ("lane exits over the centre line (left)", "lane exits over the centre line (left)"),
-    ("lane exits over the road's edge (right)", "lane exits over the road's edge (right)"),
-    ("OOBAnalyzer: LEFT OOBs", "OOBAnalyzer LEFT OOBs (runs it completes)"),
-    ("OOBAnalyzer: RIGHT OOBs", "OOBAnalyzer RIGHT OOBs (runs it completes)"),
-    ("OOBAnalyzer: sparseness mean (runs it completes)", "OOBAnalyzer sparseness mean (runs it completes)"),
-    ("OOBAnalyzer: sparseness SD (runs it completes)", "OOBAnalyzer sparseness SD (runs it completes)"),
-    ("sparseness mean over the OOBs it places", "sparseness mean over the OOBs it places"),
-]
-
-
-def sbst_group_tables(path):
-    """Each group's table of the competition's measures: measure → (mean, SD, runs)."""
-    groups, table, on = [], None, False
-    for line in open(path):
-        if line.startswith("## Group"):
-            table = {}
-            groups.append(table)
-        elif line.startswith("The SBST competition's measures"):
-            on = True
-        elif on and table is not None and (cells := table_row(line)):
-            table[cells[0]] = (cells[1], cells[2], cells[3])
-        elif on and line.startswith("Feature coverage"):
-            on = False
-    return groups
-
-
 def sbst_section():
     out()
     out("## Under the SBST competition's budgets")
     out()
-    out("WOGAN (the paper's settings) and random search with `--generation-budget 1h "
-        "--execution-budget 2h`, seeds 1–20 (fewer where a table says so), each exported with `wogan export --format sbst` and "
-        "reported with `wogan report WOGAN --vs RANDOM` (target/sbst/report-ORACLE/): the "
-        "competition's measures as its pipeline computes them, mean (SD) over runs, and the "
-        "Mann–Whitney p-value where the report tests the measure. Effectiveness (valid / generated) "
-        "is 1 in every run: wogan validates before it proposes, and the invalid candidates it "
-        "rejected itself are counted instead. The pipeline's `OOBAnalyzer` fails a whole run when "
-        "one OOB lies where its resampled road has no point within 0.5 m; its rows count only the "
-        "runs it completes, and the last row gives the sparseness over the OOBs it can place in "
-        "every run. Runs: `scripts/sbst_budget_runs.sh ORACLE \"$(seq -s ' ' 1 20)\" 1h 2h`.")
+    out("WOGAN (the paper's settings, A) and random search (B) with `--generation-budget 1h "
+        "--execution-budget 2h`, seeds 1–20 (fewer where a table says so), as "
+        "`wogan report WOGAN --vs RANDOM --table` gives them: every measure, the competition's as "
+        "its pipeline computes them, mean (SD) over runs and the Mann–Whitney p-value. "
+        "Effectiveness (valid / generated) is 1 in every run: wogan validates before it proposes, "
+        "and the invalid candidates it rejected itself are counted instead. The pipeline's "
+        "`OOBAnalyzer` fails a whole run when one OOB lies where its resampled road has no point "
+        "within 0.5 m; its rows count only the runs it completes, and the last row gives the "
+        "sparseness over the OOBs it can place in every run. Runs: "
+        "`scripts/sbst_budget_runs.sh ORACLE \"$(seq -s ' ' 1 20)\" 1h 2h`.")
     for oracle in ORACLES:
         out()
         out(f"### {oracle}")
@@ -405,27 +277,10 @@ def sbst_section():
         if not wogan or not random:
             out(f"Runs missing: `scripts/sbst_budget_runs.sh {oracle} \"$(seq -s ' ' 1 20)\" 1h 2h`.")
             continue
-        directory = os.path.join(WORK, f"{oracle}-sbst")
-        subprocess.run([WOGAN, "report", *wogan, "--vs", *random, "--out", directory],
-                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        report = os.path.join(directory, "report.md")
-        groups = sbst_group_tables(report)
-        # The comparison's rows, by name up to its first parenthesis (as report_rows keys them).
-        p = {name: row[2] for name, row in report_rows(report).items()}
-        p["failures"] = p.get("failures per run", "–")
         out(f"{len(wogan)} WOGAN runs, {len(random)} random runs.")
         out()
-        out("| measure | WOGAN | random | p |")
-        out("|---|---|---|---|")
-        for name, label in SBST_ROWS:
-            cells = []
-            for table in groups[:2]:
-                mean_, sd, runs = table.get(name, ("–", "–", "0"))
-                cell = "–" if mean_ == "–" else f"{num(float(mean_), 2)} ({num(float(sd), 2) if sd != '–' else '–'})"
-                if runs not in (str(len(wogan)), str(len(random))):
-                    cell += f", {runs} runs"
-                cells.append(cell)
-            out(f"| {label} | {cells[0]} | {cells[1]} | {p_text(p.get(name.split(' (')[0], '–'))} |")
+        for line in report_table(*wogan, "--vs", *random):
+            out(line)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -816,16 +671,7 @@ def main():
         for line in os.environ["MISSING"].splitlines():
             out(f"- {line}")
     out()
-    problems = []
-    search_section(problems)
-    if problems:
-        out()
-        out("Runs that did not finish their 300 tests (counted as they are; to redo one of ours, "
-            "delete it and run `ORACLES=ORACLE SETS=TAG scripts/search_figures.sh`, which keeps "
-            "every complete run; stgem's errors are stgem's own, see `docs/experiments/2026-11-22-stgem-parity.md`):")
-        out()
-        for path, problem, _, _ in problems:
-            out(f"- `{path}`: {problem}")
+    search_section()
     comparisons_section()
     sbst_section()
     per_road = reference_roads_section(bench)

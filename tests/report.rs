@@ -872,3 +872,115 @@ fn a_file_given_twice_counts_once() {
         "{stderr}"
     );
 }
+
+/// The data rows of the Markdown table(s) `wogan report --table` printed.
+fn table_rows(output: &std::process::Output) -> Vec<Vec<String>> {
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .filter(|l| {
+            l.starts_with("| ") && !l.starts_with("| measure") && !l.starts_with("| configuration")
+        })
+        .map(|l| {
+            l.trim_matches('|')
+                .split('|')
+                .map(|c| c.trim().to_owned())
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn table_prints_one_row_per_configuration_and_writes_no_files() {
+    let dir = scratch_dir("report-table");
+    let runs = [
+        fixture("wogan.seed3.jsonl"),
+        fixture("wogan.seed4.jsonl"),
+        fixture("random.seed4.jsonl"),
+        fixture("random.seed5.jsonl"),
+    ];
+    let mut args: Vec<&str> = vec!["report", "--table"];
+    args.extend(runs.iter().map(String::as_str));
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_wogan"))
+        .args(&args)
+        .current_dir(&dir)
+        .output()
+        .expect("wogan runs");
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let rows = table_rows(&output);
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    // Grouped as without --table: random first (its key sorts first), then WOGAN.
+    assert!(
+        rows[0][0].starts_with("random / beamng-ai-proxy"),
+        "{rows:?}"
+    );
+    assert!(
+        rows[1][0].starts_with("wogan / beamng-ai-proxy"),
+        "{rows:?}"
+    );
+    // Two runs each; WOGAN's 5 and 1 failures: median 3, mean 3. Random's 2 and 2.
+    assert_eq!(rows[1][1], "2");
+    assert_eq!(rows[1][2], "3 (3)");
+    assert_eq!(rows[0][2], "2 (2)");
+    // Random search chooses no test after a random phase: no cost per candidate.
+    assert_eq!(rows[0][7], "–");
+    assert_ne!(rows[1][7], "–");
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "--table writes no file"
+    );
+}
+
+#[test]
+fn table_with_vs_gives_every_measure_with_its_p_value() {
+    let output = wogan_ok(
+        &[
+            "report",
+            "--table",
+            &fixture("wogan.seed3.jsonl"),
+            &fixture("wogan.seed4.jsonl"),
+            "--vs",
+            &fixture("random.seed4.jsonl"),
+            &fixture("random.seed5.jsonl"),
+        ],
+        "",
+    );
+    let rows = table_rows(&output);
+    let failures = rows
+        .iter()
+        .find(|r| r[0] == "failures per run")
+        .expect("a failures row");
+    assert_eq!(failures[1], "3.000 (2.828) n=2");
+    assert_eq!(failures[2], "2.000 (0.000) n=2");
+    assert_eq!(failures[4], "1.0000");
+    // The competition's measures are all there, not only those report.md compares.
+    for measure in [
+        "effectiveness (valid / generated)",
+        "lane exits over the centre line (left)",
+    ] {
+        assert!(rows.iter().any(|r| r[0] == measure), "{measure}: {rows:?}");
+    }
+}
+
+#[test]
+fn table_and_out_are_one_or_the_other() {
+    let dir = scratch_dir("report-table-out");
+    let output = wogan(
+        &[
+            "report",
+            "--table",
+            &fixture("wogan.seed3.jsonl"),
+            "--out",
+            path_str(&dir),
+        ],
+        "",
+    );
+    assert_eq!(output.status.code(), Some(2));
+    let output = wogan(&["report", &fixture("wogan.seed3.jsonl")], "");
+    assert_eq!(output.status.code(), Some(2), "neither --out nor --table");
+}

@@ -23,20 +23,20 @@ pub struct ConfigFile {
 }
 
 impl ConfigFile {
-    /// The file at `path` (empty when there is none), its old driver sections moved for `oracle`.
-    pub fn read_for(path: Option<&Path>, oracle: DriverKind) -> Result<Self> {
+    /// The file at `path` (empty when there is none), its old driver sections moved for `driver`.
+    pub fn read_for(path: Option<&Path>, driver: DriverKind) -> Result<Self> {
         let mut file = match path {
             Some(path) => read::<Self>(path)?,
             None => Self::default(),
         };
-        file.move_old_driver_sections(oracle)?;
+        file.move_old_driver_sections(driver)?;
         Ok(file)
     }
 
     /// Moves the driver sections that older files kept under `sim` (`sim.beamng_ai`,
     /// `sim.dave2`) to `driver`, for the driver under test; the other driver's section is
     /// dropped, as it always went unused. Says on stderr what it moved.
-    fn move_old_driver_sections(&mut self, oracle: DriverKind) -> Result<()> {
+    fn move_old_driver_sections(&mut self, driver: DriverKind) -> Result<()> {
         let Some(serde_json::Value::Object(sim)) = &mut self.sim else {
             return Ok(());
         };
@@ -47,8 +47,8 @@ impl ConfigFile {
             let Some(section) = sim.remove(old) else {
                 continue;
             };
-            if kind != oracle {
-                eprintln!("wogan: config file: \"sim.{old}\" is for {kind}, not {oracle}: ignored");
+            if kind != driver {
+                eprintln!("wogan: config file: \"sim.{old}\" is for {kind}, not {driver}: ignored");
                 continue;
             }
             if self.driver.is_some() {

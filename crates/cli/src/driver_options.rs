@@ -14,8 +14,8 @@ use std::sync::Arc;
 #[derive(Debug, Clone, Args)]
 pub struct DriverOptions {
     /// The driver under test: beamng-ai-proxy or dave2-proxy.
-    #[arg(long, default_value = "beamng-ai-proxy", value_parser = driver_kind)]
-    pub oracle: DriverKind,
+    #[arg(long = "oracle", value_name = "ORACLE", default_value = "beamng-ai-proxy", value_parser = driver_kind)]
+    pub kind: DriverKind,
     /// DAVE-2 weights written by `wogan train-driver` [default: the built-in ones].
     #[arg(long, value_name = "FILE")]
     pub driver_weights: Option<PathBuf>,
@@ -35,14 +35,14 @@ impl DriverOptions {
     /// The chosen driver with its default tuning, `patch` (a config file's `driver` section)
     /// laid over it, and the weights of `--driver-weights` if given.
     pub fn driver_config(&self, patch: Option<&serde_json::Value>) -> Result<DriverConfig> {
-        driver_config(self.oracle, patch, self.driver_weights.as_deref(), "driver")
+        driver_config(self.kind, patch, self.driver_weights.as_deref(), "driver")
     }
 
     /// The simulation settings and the driver these options and `file` ask for: the driver's
     /// preset and default tuning, the file's `sim` and `driver` sections laid over them, then
     /// the command line's options; or names the first setting that cannot be used.
     pub fn resolve(&self, file: &ConfigFile) -> Result<(SimConfig, DriverConfig)> {
-        let preset = self.oracle.preset().sim_config();
+        let preset = self.kind.preset().sim_config();
         let sim = self.apply_to(config_file::lay_over(file.sim.as_ref(), preset, "sim")?);
         sim.validate().context("invalid simulation settings")?;
         let driver = self.driver_config(file.driver.as_ref())?;

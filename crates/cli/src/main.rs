@@ -14,25 +14,18 @@ mod json_lines;
 mod plan;
 mod records;
 mod report;
-mod road_lines;
 mod road_sut;
-mod sbst_format;
+mod run_file;
+mod sbst;
 mod value_parsers;
 
-use commands::{camera, export, report as report_command, run, simulate, train_driver, validate};
+use commands::{
+    camera, export, report as report_command, run, simulate, train_driver, validate, Status,
+};
 
 use clap::{Parser, Subcommand};
+use commands::EXIT_USAGE;
 use std::process::ExitCode;
-
-/// Exit status when every input line was answered.
-const EXIT_OK: u8 = 0;
-/// Exit status when some input lines could not be read as roads (the others were answered), or
-/// a run failed part-way.
-const EXIT_BAD_LINES: u8 = 1;
-/// Exit status for bad usage (options, unreadable input file).
-const EXIT_USAGE: u8 = 2;
-/// Exit status after Ctrl-C or SIGTERM (128 + SIGINT), once the summary is written.
-const EXIT_INTERRUPTED: u8 = 130;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -75,11 +68,9 @@ fn main() -> ExitCode {
         Command::Export(args) => export::run(&args),
     };
     match outcome {
-        Ok(Status::AllRead) => ExitCode::from(EXIT_OK),
-        Ok(Status::SomeLinesBad | Status::Failed) => ExitCode::from(EXIT_BAD_LINES),
-        Ok(Status::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
+        Ok(status) => ExitCode::from(status.exit_code()),
         // The reader went away (`wogan run | head -1`): what it wanted was written.
-        Err(error) if is_broken_pipe(&error) => ExitCode::from(EXIT_OK),
+        Err(error) if is_broken_pipe(&error) => ExitCode::from(Status::AllRead.exit_code()),
         Err(error) => {
             eprintln!("wogan: {error:#}");
             ExitCode::from(EXIT_USAGE)
@@ -94,17 +85,4 @@ fn is_broken_pipe(error: &anyhow::Error) -> bool {
             .downcast_ref::<std::io::Error>()
             .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
     })
-}
-
-/// How a command ended when it did not fail outright.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Status {
-    /// Every input line was read and answered.
-    AllRead,
-    /// Some input lines were not roads; they were reported as `error` records.
-    SomeLinesBad,
-    /// The work failed part-way; what was computed was written, with the reason.
-    Failed,
-    /// Ctrl-C or SIGTERM ended the work early; what was computed was written.
-    Interrupted,
 }

@@ -152,9 +152,9 @@ impl RunPlan {
                 );
             }
         }
-        let oracle = args.driver.oracle;
-        let preset = oracle.preset();
-        let file = ConfigFile::read_for(args.config.as_deref(), oracle)?;
+        let kind = args.driver.kind;
+        let preset = kind.preset();
+        let file = ConfigFile::read_for(args.config.as_deref(), kind)?;
         let (sim, driver) = args.driver.resolve(&file)?;
         let fitness = args.fitness.unwrap_or(preset.fitness);
         let mut search_defaults = RunConfig::default();
@@ -227,7 +227,7 @@ impl RunPlan {
     }
 
     /// The driver under test.
-    pub fn oracle(&self) -> DriverKind {
+    pub fn driver_kind(&self) -> DriverKind {
         self.settings.driver.kind()
     }
 
@@ -237,7 +237,7 @@ impl RunPlan {
             version: VERSION.to_string(),
             seed: Some(self.seed),
             algorithm: self.algorithm.name().to_owned(),
-            oracle: self.oracle(),
+            driver: self.driver_kind(),
             fitness: self.fitness,
             config: &self.settings,
         }

@@ -11,11 +11,11 @@
 //! a non-finite number as `null`, which reads back as NaN. Fields added after a record was first
 //! written are optional when read, so that older run files stay readable.
 
-use crate::sbst_format::ExecutionRecord;
+use crate::sbst::format::ExecutionRecord;
 use driver_training::{CloningConfig, CloningReport};
 use road_sim::road::Point;
 use road_sim::{DriverKind, FitnessKind, Outcome, Reason, Sample, SimResult};
-use serde::{Deserialize, Deserializer, Serialize};
+use serde::{Deserialize, Serialize};
 #[cfg(doc)]
 use wogan_core::Algorithm;
 use wogan_core::Phase;
@@ -61,8 +61,9 @@ pub struct Header<C = serde_json::Value> {
     /// run files of reference implementations name their own (`stgem-wogan`), so it is read as a
     /// name.
     pub algorithm: String,
-    /// The driver under test.
-    pub oracle: DriverKind,
+    /// The driver under test (`--oracle`, the competition's word, names it on the wire).
+    #[serde(rename = "oracle")]
+    pub driver: DriverKind,
     /// What the search maximised.
     pub fitness: FitnessKind,
     /// Every setting, resolved (see `plan::RunSettings`).
@@ -77,7 +78,7 @@ pub struct TestRecord {
     /// Who proposed it.
     pub phase: Phase,
     /// Fitness in `[0, 1]`, higher is closer to failure.
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "road_sim::json_float::nan_for_null")]
     pub fitness: f64,
     /// The analyzer's prediction, when WOGAN chose the test.
     #[serde(default)]
@@ -89,7 +90,7 @@ pub struct TestRecord {
     pub ranked_candidates: Option<usize>,
     /// Time spent choosing the test, milliseconds (validity checks included, training
     /// excluded: the paper's efficiency).
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "road_sim::json_float::nan_for_null")]
     pub generation_ms: f64,
     /// The generation time the SBST competition charges for the test, milliseconds: real time
     /// from the end of the previous test's execution (or the start of the run) to the start of
@@ -144,19 +145,31 @@ pub struct RoadExecution {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct TrainRecord {
     /// Analyzer loss.
-    #[serde(default = "nan", deserialize_with = "nan_for_null")]
+    #[serde(
+        default = "road_sim::json_float::nan",
+        deserialize_with = "road_sim::json_float::nan_for_null"
+    )]
     pub analyzer_loss: f64,
     /// Critic loss.
-    #[serde(default = "nan", deserialize_with = "nan_for_null")]
+    #[serde(
+        default = "road_sim::json_float::nan",
+        deserialize_with = "road_sim::json_float::nan_for_null"
+    )]
     pub critic_loss: f64,
     /// Gradient penalty of the last critic step, coefficient included (absent in older runs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gradient_penalty: Option<f64>,
     /// Generator loss.
-    #[serde(default = "nan", deserialize_with = "nan_for_null")]
+    #[serde(
+        default = "road_sim::json_float::nan",
+        deserialize_with = "road_sim::json_float::nan_for_null"
+    )]
     pub generator_loss: f64,
     /// The critic's Wasserstein estimate.
-    #[serde(default = "nan", deserialize_with = "nan_for_null")]
+    #[serde(
+        default = "road_sim::json_float::nan",
+        deserialize_with = "road_sim::json_float::nan_for_null"
+    )]
     pub wasserstein_estimate: f64,
     /// Duration of the round, milliseconds.
     pub train_ms: f64,
@@ -276,7 +289,7 @@ pub struct DriverRecord {
     pub report: CloningReport,
 }
 
-/// One line of a `simulate --trace` file: the road first, then one sample per oracle step.
+/// One line of a `simulate --trace` file: the road first, then one sample per lane-monitor step.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum TraceRecord {
@@ -287,7 +300,7 @@ pub enum TraceRecord {
         /// Its interpolated centre line.
         interpolated_points: Vec<Point>,
     },
-    /// One oracle sample.
+    /// One lane-monitor sample.
     Sample(Sample),
     /// A record of a kind this version does not know (skipped by readers).
     #[serde(other, skip_serializing)]
@@ -297,16 +310,6 @@ pub enum TraceRecord {
 /// `value` unless it is NaN (a number that was not finite when written, or missing).
 pub fn known(value: f64) -> Option<f64> {
     (!value.is_nan()).then_some(value)
-}
-
-/// The value of a number a file does not give.
-fn nan() -> f64 {
-    f64::NAN
-}
-
-/// Reads a number that serde_json wrote as `null` because it was not finite, as NaN.
-fn nan_for_null<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::NAN))
 }
 
 #[cfg(test)]

@@ -23,7 +23,7 @@ use crate::dave2_model::Dave2Trainer;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha20Rng;
 use road_sim::driver::{BeamNgAiParams, BeamNgAiProxy, Driver, Observation};
-use road_sim::settings::{
+use road_sim::setting_checks::{
     all_non_negative, all_positive, all_within, first_problem, positive, SettingsError,
 };
 use road_sim::sim::{simulate, Command, SimConfig, VehicleParams};

@@ -24,16 +24,17 @@
 //! ```
 
 pub mod driver;
+pub mod json_float;
 pub mod oob;
 pub mod road;
-pub mod settings;
+pub mod setting_checks;
 pub mod sim;
 pub mod validator;
 pub mod vision;
 
 pub use driver::{DriverConfig, DriverKind};
 pub use road::{CurvatureRoad, Point, Road, RoadFeatures};
-pub use settings::SettingsError;
+pub use setting_checks::SettingsError;
 pub use sim::{
     simulate, Driver, FitnessKind, LaneExit, LaneSide, Observation, Outcome, Sample, SimConfig,
     SimResult, StopReason,

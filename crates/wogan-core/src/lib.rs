@@ -58,7 +58,7 @@
 //!   each of the 3 newest tests joins a WGAN batch when its bin is at most a drawn bin (stgem's
 //!   code, which its comment contradicts), and may be drawn again by the rest of the batch.
 //! - The acceptance rule: one valid candidate per round and per 0.95 decay of the target,
-//!   accepted within 1e-4 (`acceptance.rs`).
+//!   accepted within 1e-4 (`wogan/acceptance.rs`).
 //!
 //! # Choices where the reference leaves room
 //!
@@ -93,37 +93,28 @@
 //! of its weights with detached leaky-ReLU slope masks; one ordinary backward then gives exact
 //! parameter gradients of the WGAN-GP loss (checked against f64 finite differences in a test).
 
-mod acceptance;
-mod analyzer;
-mod batch_norm;
-mod bins;
 mod budget;
 mod config;
-mod critic;
 pub mod diversity;
 mod error;
-mod generator;
-mod mutation;
-mod nn;
-mod random;
+mod nets;
 mod run;
-mod sampler;
 mod sut;
-mod wgan;
+mod test_sampler;
 mod wogan;
 
 #[cfg(test)]
 mod stgem_parity;
 
-pub use bins::{biased_batch, bin_of, bin_weights, BatchDraws, RngDraws};
 pub use budget::{Budget, SbstBudget, SbstUsage};
 pub use config::{
-    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, RunConfig, SamplerConfig,
-    WganConfig, WoganConfig,
+    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig, RunConfig,
+    SamplerConfig, WganConfig, WoganConfig,
 };
 pub use error::Error;
-pub use mutation::MutationConfig;
 pub use run::{run, Event, Phase, Summary};
-pub use sampler::Sampler;
 pub use sut::{Execution, Sut};
-pub use wogan::{Proposal, TrainStats, WoganModel};
+pub use test_sampler::Sampler;
+pub use wogan::{
+    biased_batch, bin_of, bin_weights, BatchDraws, Proposal, RngDraws, TrainStats, WoganModel,
+};

@@ -14,17 +14,13 @@ use burn::nn::Linear;
 use burn::prelude::*;
 use serde_json::Value;
 
-use crate::acceptance::Acceptance;
-use crate::analyzer::{logit_target, Analyzer, AnalyzerTrainer};
-use crate::batch_norm::BatchNorm;
-use crate::bins::{biased_batch, bin_of, bin_weights, BatchDraws};
 use crate::budget::Budget;
 use crate::config::{AnalyzerConfig, RunConfig, WganConfig};
-use crate::critic::Critic;
-use crate::generator::Generator;
-use crate::nn::{matrix, values};
-use crate::sampler::Sampler;
-use crate::wgan::Wgan;
+use crate::nets::{
+    logit_target, matrix, values, Analyzer, AnalyzerTrainer, BatchNorm, Critic, Generator, Wgan,
+};
+use crate::test_sampler::Sampler;
+use crate::wogan::{biased_batch, bin_of, bin_weights, Acceptance, BatchDraws};
 
 fn vectors(name: &str) -> Value {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -1,7 +1,7 @@
 //! `wogan camera`: what `dave2-proxy`'s camera sees from the right lane of a road, as PNG.
 
+use super::Status;
 use crate::json_lines::{numbered_lines, open_input};
-use crate::Status;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::road::input::{parse_line, RoadInput};

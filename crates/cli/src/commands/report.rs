@@ -1,10 +1,12 @@
 //! `wogan report`: a Markdown report with SVG pictures of one or more runs (grouped by their
-//! configuration, or two groups side by side with `--vs`), or a picture of one simulation trace.
+//! configuration, or two groups side by side with `--vs`), or a picture of one simulation trace;
+//! with `--table`, the figures as Markdown tables on stdout.
 
+use super::Status;
 use crate::report;
-use crate::Status;
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use std::io::Write;
 use std::path::PathBuf;
 
 /// Options of `wogan report`.
@@ -22,8 +24,12 @@ pub struct ReportArgs {
     #[arg(long, value_name = "FILE", conflicts_with_all = ["runs", "vs"])]
     pub trace: Option<PathBuf>,
     /// Directory to write report.md and the pictures to (created if missing).
-    #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
+    #[arg(long, value_name = "DIR", required_unless_present = "table")]
+    pub out: Option<PathBuf>,
+    /// Print the figures as Markdown tables instead (no report.md, no pictures): one row per
+    /// configuration, or with --vs every measure of A against B.
+    #[arg(long, conflicts_with_all = ["trace", "out"])]
+    pub table: bool,
 }
 
 /// Runs `wogan report`.
@@ -31,10 +37,26 @@ pub fn run(args: &ReportArgs) -> Result<Status> {
     if args.trace.is_none() && args.runs.is_empty() {
         bail!("give RUN files to report on, or --trace FILE");
     }
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
-    match &args.trace {
-        Some(trace) => report::trace_picture(trace, &args.out),
-        None => report::runs_report(&args.runs, &args.vs, &args.out),
-    }
+    let problems = match (&args.out, &args.trace) {
+        (None, _) => {
+            let (tables, problems) = report::runs_tables(&args.runs, &args.vs)?;
+            let mut stdout = std::io::stdout().lock();
+            stdout.write_all(tables.as_bytes())?;
+            stdout.flush()?;
+            problems
+        }
+        (Some(out), trace) => {
+            std::fs::create_dir_all(out)
+                .with_context(|| format!("cannot create {}", out.display()))?;
+            match trace {
+                Some(trace) => report::trace_picture(trace, out)?,
+                None => report::runs_report(&args.runs, &args.vs, out)?,
+            }
+        }
+    };
+    Ok(if problems == 0 {
+        Status::AllRead
+    } else {
+        Status::SomeLinesBad
+    })
 }

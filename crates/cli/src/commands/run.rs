@@ -1,12 +1,12 @@
 //! `wogan run`: search for roads that push the driver out of its lane, streaming one JSON line per
 //! executed test, per training round, and a final summary.
 
+use super::Status;
 use crate::interrupt::stop_flag;
 use crate::json_lines::JsonLinesWriter;
 use crate::plan::{RunArgs, RunPlan};
 use crate::records::{Record, SummaryRecord, TestRecord, TrainRecord};
 use crate::road_sut::RoadSut;
-use crate::Status;
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use road_sim::road::heading_profile::heading_profile;

@@ -1,13 +1,13 @@
 //! `wogan simulate`: drive the chosen driver along every road of the input.
 
+use super::road_stream::{answer_each_road, Answer};
+use super::Status;
 use crate::config_file::ConfigFile;
 use crate::driver_options::DriverOptions;
 use crate::interrupt::stop_flag;
 use crate::json_lines::{open_input, JsonLinesWriter};
 use crate::records::{InvalidOutcome, Record, ResultRecord, TraceRecord};
-use crate::road_lines::{answer_each_road, Answer};
-use crate::sbst_format::execution_data;
-use crate::Status;
+use crate::sbst::format::execution_data;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::{simulate, Reason, Road, Sample, StopReason, Validator};
@@ -29,7 +29,7 @@ pub struct SimulateArgs {
     /// Roads simulated at once (output keeps the input order).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
     pub jobs: u32,
-    /// Write DIR/trace.N.jsonl for input line N: the road, then one sample per oracle step.
+    /// Write DIR/trace.N.jsonl for input line N: the road, then one sample per lane-monitor step.
     #[arg(long, value_name = "DIR")]
     pub trace: Option<PathBuf>,
     /// Put the drive's records in each answer as the SBST pipeline stores them
@@ -49,7 +49,7 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
     }
     let mut out = JsonLinesWriter::create(None)?;
     let validator = Validator::new(args.driver.map_size);
-    let file = ConfigFile::read_for(args.config.as_deref(), args.driver.oracle)?;
+    let file = ConfigFile::read_for(args.config.as_deref(), args.driver.kind)?;
     if file.search.is_some() {
         bail!("config file: \"search\" is for `wogan run`; `wogan simulate` reads \"sim\" and \"driver\"");
     }

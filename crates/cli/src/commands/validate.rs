@@ -1,11 +1,11 @@
 //! `wogan validate`: the competition's verdict for every road of the input.
 
+use super::road_stream::{answer_each_road, Answer};
+use super::Status;
 use crate::interrupt::stop_flag;
 use crate::json_lines::{open_input, JsonLinesWriter};
 use crate::records::{Record, VerdictRecord};
-use crate::road_lines::{answer_each_road, Answer};
 use crate::value_parsers::map_size_m;
-use crate::Status;
 use anyhow::Result;
 use clap::Args;
 use road_sim::Validator;

@@ -1,16 +1,17 @@
 //! The figures of a group of repeated runs: per-run measures and their mean and SD over runs,
 //! and the competition's feature coverage of the failing tests.
 
-use super::run_file::RunFile;
-use super::sbst_metrics::SbstMeasures;
 use super::stats::{mean, median, sample_sd};
-use crate::records::known;
+use crate::records::{known, TestRecord};
+use crate::run_file::RunFile;
+use crate::sbst::metrics::SbstMeasures;
 use rayon::prelude::*;
 use road_sim::road::heading_profile::heading_profile;
 use road_sim::Road;
 use road_sim::SimResult;
 use std::collections::BTreeSet;
 use wogan_core::diversity::median_pairwise_distance;
+use wogan_core::Phase;
 
 /// Width of a MAX_CURV coverage bin, 1/m.
 pub const MAX_CURV_BIN_PER_M: f64 = 0.01;
@@ -45,6 +46,14 @@ pub struct RunMeasures {
     /// Largest `fitness_distance` of the run's tests: how near the lane's edge the search drove
     /// the car, the one sign of progress against a driver it never breaks; `None` without tests.
     pub closest_approach: Option<f64>,
+    /// Invalid candidates rejected over the run.
+    pub invalid_candidates: usize,
+    /// Generation time of the tests the search chose (after the random phase), milliseconds,
+    /// and the candidates it drew for them (valid ones ranked and invalid ones): what a candidate
+    /// costs.
+    pub chosen_generation_ms: f64,
+    /// See [`RunMeasures::chosen_generation_ms`].
+    pub chosen_candidates: usize,
     /// The SBST competition's measures.
     pub sbst: SbstMeasures,
 }
@@ -74,6 +83,11 @@ impl RunMeasures {
         let seed = run.header.as_ref().and_then(|h| h.seed).unwrap_or(0);
         let failures = run.failures();
         let first_index = run.tests.iter().position(|t| t.failed());
+        let chosen: Vec<&TestRecord> = run
+            .tests
+            .iter()
+            .filter(|t| t.phase != Phase::Random)
+            .collect();
         let tests_after_first = first_index.map_or(0, |i| run.tests.len() - i - 1);
         Self {
             executed: run.tests.len(),
@@ -96,6 +110,12 @@ impl RunMeasures {
                 .iter()
                 .filter_map(|t| known(t.execution.result.fitness_distance))
                 .reduce(f64::max),
+            invalid_candidates: run.tests.iter().map(|t| t.invalid_candidates).sum(),
+            chosen_generation_ms: chosen.iter().filter_map(|t| known(t.generation_ms)).sum(),
+            chosen_candidates: chosen
+                .iter()
+                .map(|t| t.invalid_candidates + t.ranked_candidates.unwrap_or(0))
+                .sum(),
             sbst: SbstMeasures::of(run),
         }
     }

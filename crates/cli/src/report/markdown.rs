@@ -103,7 +103,7 @@ const EXPLOITATION: [(&str, Measure); 4] = [
 
 /// The SBST competition's measures per run, as its pipeline computes them: a table of each group,
 /// and rows of the comparison.
-const COMPETITION: [(&str, Measure); 12] = [
+pub const COMPETITION: [(&str, Measure); 12] = [
     ("tests generated (handed to execution)", |m| {
         Some(m.sbst.generated as f64)
     }),
@@ -265,16 +265,33 @@ fn competition(f: &GroupFigures) -> String {
 fn comparison(a: &GroupSection, b: &GroupSection) -> String {
     let mut text = String::from("## Comparison: A vs B\n\n");
     let _ = writeln!(text, "- {}\n- {}\n", a.label, b.label);
-    text.push_str("| measure | A mean (SD) | B mean (SD) | U of A | p (two-sided) | method |\n");
+    let competition = COMPETITION_COMPARED.map(|i| COMPETITION[i]);
+    text.push_str(&comparison_table(&a.figures, &b.figures, &competition));
+    text.push('\n');
+    text
+}
+
+/// The Mann–Whitney table of A against B: the outcomes, the exploitation measures and
+/// `competition` (some or all of the competition's measures).
+pub fn comparison_table(
+    a: &GroupFigures,
+    b: &GroupFigures,
+    competition: &[(&str, Measure)],
+) -> String {
+    let mut text =
+        String::from("| measure | A mean (SD) | B mean (SD) | U of A | p (two-sided) | method |\n");
     text.push_str("|---|---|---|---|---|---|\n");
     // The means shown are those of the samples the test compares.
     let outcomes: [(&str, Measure); 2] = [
         ("failures per run", |m| Some(m.failures as f64)),
         ("diversity", |m| m.diversity),
     ];
-    let competition = COMPETITION_COMPARED.map(|i| COMPETITION[i]);
-    for (name, measure) in outcomes.into_iter().chain(EXPLOITATION).chain(competition) {
-        let (x, y) = (a.figures.values(measure), b.figures.values(measure));
+    let measures = outcomes
+        .into_iter()
+        .chain(EXPLOITATION)
+        .chain(competition.iter().copied());
+    for (name, measure) in measures {
+        let (x, y) = (a.values(measure), b.values(measure));
         let both = |s: &Spread| format!("{} ({}) n={}", number(s.mean), number(s.sd), s.count);
         let (u, p, method) = match mann_whitney(&x, &y) {
             Some(r) => {
@@ -293,6 +310,5 @@ fn comparison(a: &GroupSection, b: &GroupSection) -> String {
             both(&Spread::of(&y))
         );
     }
-    text.push('\n');
     text
 }

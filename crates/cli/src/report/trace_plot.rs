@@ -179,3 +179,19 @@ pub fn trace_svg(path: &Path, title: &str, trace: &Trace) -> Result<()> {
     root.present().map_err(&err)?;
     Ok(())
 }
+
+/// Draws one `simulate --trace` file to `out/trace.svg`. Returns how many of its lines were bad
+/// (each said on stderr).
+pub fn trace_picture(trace_path: &Path, out: &Path) -> Result<usize> {
+    let trace = read_trace(trace_path)?;
+    for problem in &trace.problems {
+        eprintln!("wogan report: {problem}");
+    }
+    let name = trace_path
+        .file_name()
+        .map_or_else(|| "trace".to_owned(), |f| f.to_string_lossy().into_owned());
+    let path = out.join("trace.svg");
+    trace_svg(&path, &format!("simulation {name}"), &trace)?;
+    eprintln!("wogan report: wrote {}", path.display());
+    Ok(trace.problems.len())
+}

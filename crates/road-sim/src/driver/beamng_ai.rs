@@ -22,10 +22,10 @@
 //! How the defaults were calibrated on WOGAN's roads and on the competition's long roads, and
 //! what every candidate measured: `docs/experiments/2026-11-23-drivers-on-long-roads.md`.
 
-use super::config::DriverPreset;
-use super::pedals;
+use super::pedals::pedals;
+use super::preset::DriverPreset;
 use crate::road::{polyline, Point, Road};
-use crate::settings::{all_non_negative, all_positive, SettingsError};
+use crate::setting_checks::{all_non_negative, all_positive, SettingsError};
 use crate::sim::{Command, Driver, FitnessKind, Observation, VehicleParams};
 use serde::{Deserialize, Serialize};
 

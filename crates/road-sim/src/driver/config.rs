@@ -3,8 +3,9 @@
 
 use super::beamng_ai::{self, BeamNgAiParams, BeamNgAiProxy};
 use super::dave2::{self, Dave2Driver, Dave2DriverParams};
-use crate::settings::SettingsError;
-use crate::sim::{Driver, FitnessKind, SimConfig};
+use super::preset::DriverPreset;
+use crate::setting_checks::SettingsError;
+use crate::sim::Driver;
 use crate::vision::Dave2Weights;
 use serde::{Deserialize, Serialize, Serializer};
 use std::sync::Arc;
@@ -68,28 +69,6 @@ impl std::str::FromStr for DriverKind {
         Self::from_name(s).ok_or_else(|| UnknownDriver {
             name: s.to_string(),
         })
-    }
-}
-
-/// What a driver is judged by unless told otherwise: the competition's setting for it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DriverPreset {
-    /// A drive fails when its BOLP exceeds this.
-    pub oob_tolerance: f64,
-    /// The speed limit, km/h.
-    pub speed_limit_kmh: f64,
-    /// What a search maximises.
-    pub fitness: FitnessKind,
-}
-
-impl DriverPreset {
-    /// The default simulation settings with this preset's tolerance and speed limit.
-    pub fn sim_config(&self) -> SimConfig {
-        SimConfig {
-            oob_tolerance: self.oob_tolerance,
-            speed_limit_kmh: self.speed_limit_kmh,
-            ..SimConfig::default()
-        }
     }
 }
 
@@ -157,6 +136,7 @@ impl Serialize for DriverConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::{FitnessKind, SimConfig};
 
     #[test]
     fn names_round_trip() {

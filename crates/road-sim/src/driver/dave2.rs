@@ -5,10 +5,10 @@
 //! `[-1, 1]`) times the car's maximum wheel angle; a proportional controller holds the speed at
 //! the set speed (25 km/h by default, never above the simulation's speed limit).
 
-use super::config::DriverPreset;
-use super::pedals;
+use super::pedals::pedals;
+use super::preset::DriverPreset;
 use crate::road::Road;
-use crate::settings::{all_non_negative, all_within, SettingsError};
+use crate::setting_checks::{all_non_negative, all_within, SettingsError};
 use crate::sim::{Command, Driver, FitnessKind, Observation, VehicleParams};
 use crate::vision::{Camera, CameraParams, Dave2Net, Dave2Weights, Frame, RoadScene, WeightsError};
 use serde::{Deserialize, Serialize};

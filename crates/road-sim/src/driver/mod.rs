@@ -7,31 +7,15 @@
 pub mod beamng_ai;
 mod config;
 pub mod dave2;
+mod pedals;
+mod preset;
 
 pub use crate::sim::{Driver, Observation};
 pub use beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
-pub use config::{DriverConfig, DriverKind, DriverPreset, UnknownDriver};
+pub use config::{DriverConfig, DriverKind, UnknownDriver};
 pub use dave2::{Dave2Driver, Dave2DriverParams};
-
-/// Throttle and brake, each in `[0, 1]`, of a proportional speed controller: throttle for a
-/// speed deficit (`speed_error_mps > 0`), brake only for an excess beyond the deadband.
-pub fn pedals(
-    speed_error_mps: f64,
-    throttle_gain: f64,
-    brake_gain: f64,
-    brake_deadband_mps: f64,
-) -> (f64, f64) {
-    if speed_error_mps >= 0.0 {
-        ((throttle_gain * speed_error_mps).min(1.0), 0.0)
-    } else if -speed_error_mps > brake_deadband_mps {
-        (
-            0.0,
-            (brake_gain * (-speed_error_mps - brake_deadband_mps)).min(1.0),
-        )
-    } else {
-        (0.0, 0.0)
-    }
-}
+pub use pedals::pedals;
+pub use preset::DriverPreset;
 
 /// The roads of `tests/reference/FILE` (JSON lines with `road_points`) with each line's
 /// `generator` (empty when it has none), for the drivers' calibration tests.

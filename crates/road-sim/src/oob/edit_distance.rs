@@ -6,7 +6,7 @@
 //! differences that are not wrapped (so within ±360); the first step's angle is 0. The cost
 //! wraps the difference of two angles into [0, 180] before comparing.
 
-use super::OobError;
+use super::error::OobError;
 use crate::road::Point;
 
 /// Angle differences below this many degrees, with lengths within [`LENGTH_EPS_M`], cost nothing.

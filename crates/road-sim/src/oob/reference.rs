@@ -6,6 +6,7 @@ use serde_json::Value;
 use super::edit_distance::{angle_lengths, segment_distance, substitution_cost};
 use super::sparseness::{numpy_mean_sd, percent_f};
 use super::*;
+use crate::road::Point;
 
 /// The committed vectors, or the file named by `SBST_OOB_VECTORS` (to check other directories,
 /// e.g. exports, without committing them).

@@ -9,7 +9,8 @@
 //! point lies exactly on a rounding tie (`x * 1e4` ends in `.5`, e.g. 93.50205) the noise decides
 //! the pipeline's rounding; this happened for the first sample of 8 of 2834 reference roads.
 
-use super::{geometry, OobError};
+use super::error::OobError;
+use super::geometry;
 use crate::road::spline::{sample_evenly, ParametricSpline, SplineError, MAX_LENGTH_M};
 use crate::road::Point;
 

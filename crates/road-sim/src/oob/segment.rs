@@ -15,10 +15,20 @@
 //! lies before `np` (a step back along the road), and they are the same point when `np` is a
 //! sample (a step of length zero).
 
+use super::error::OobError;
+use super::geometry;
 use super::resample::resample;
-use super::{geometry, OobError, SbstSide};
 use crate::road::Point;
 
+/// The side of the road the pipeline assigns an OOB.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "UPPERCASE")]
+pub enum SbstSide {
+    /// Less than 2 m from the centre line.
+    Left,
+    /// 2 m or more from the centre line.
+    Right,
+}
 /// An OOB closer than this to the centre line is on the left, metres.
 pub const LEFT_BELOW_M: f64 = 2.0;
 /// A resampled point closer than this to the nearest point splits the line there, metres.

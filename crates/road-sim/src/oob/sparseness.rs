@@ -9,7 +9,8 @@
 use std::collections::HashMap;
 
 use super::edit_distance::{angle_lengths, steps_distance};
-use super::{OobEntry, OobError};
+use super::entry::{OobEntry, OobSummary};
+use super::error::OobError;
 
 /// Header of the pipeline's `create_summary` CSV.
 pub const SUMMARY_HEADER: &str = "total_oob,left_oob,right_oob,avg_sparseness,stdev_sparseness";
@@ -115,7 +116,7 @@ fn pairwise_sum(values: &[f64]) -> f64 {
 
 /// The `create_summary` CSV: the header, then `"%d,%d,%d,%.3f,%3.f"` of the totals and the
 /// sparseness (so the SD is printed as a whole number, at least 3 wide).
-pub fn summary_csv(summary: &super::OobSummary) -> String {
+pub fn summary_csv(summary: &OobSummary) -> String {
     format!(
         "{SUMMARY_HEADER}\n{},{},{},{},{}",
         summary.total,

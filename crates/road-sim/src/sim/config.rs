@@ -3,7 +3,7 @@
 
 use super::vehicle::VehicleParams;
 use crate::road::Road;
-use crate::settings::{all_within, SettingsError};
+use crate::setting_checks::{all_within, SettingsError};
 use serde::{Deserialize, Serialize};
 
 /// Most physics steps per simulated second.
@@ -23,7 +23,7 @@ pub struct SimConfig {
     pub oob_tolerance: f64,
     /// Physics steps per simulated second.
     pub physics_hz: f64,
-    /// Oracle samples per simulated second (rounded to a whole number of physics steps).
+    /// Lane-monitor samples per simulated second (rounded to a whole number of physics steps).
     pub sample_hz: f64,
     /// Distance along the road from its first point to the car's start, metres.
     pub start_offset_m: f64,

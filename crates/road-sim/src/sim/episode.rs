@@ -64,7 +64,7 @@ pub fn start_pose(road: &Road, offset_m: f64) -> (Point, f64) {
     unreachable!("a road has at least two interpolated points")
 }
 
-/// Drives `driver` on `road`; returns the verdict, the oracle's figures and, if `trace`, the
+/// Drives `driver` on `road`; returns the verdict, the lane monitor's figures and, if `trace`, the
 /// samples. When `stop` is given and set, the drive ends between two physics steps in ERROR
 /// (`interrupted`).
 pub fn simulate(

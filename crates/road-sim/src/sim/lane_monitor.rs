@@ -1,4 +1,4 @@
-//! The oracle: how far the car is out of its lane, measured at each sample.
+//! The lane monitor: how far the car is out of its lane, measured at each sample.
 //!
 //! BOLP is computed exactly (polygon clipping, the same definition as [`super::bolp`]) against a
 //! local window of the right-lane polygon around the car's projection on the centre line, with

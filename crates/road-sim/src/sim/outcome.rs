@@ -1,7 +1,7 @@
-//! What a simulation reports: the outcome, the oracle's figures and an optional trace.
+//! What a simulation reports: the outcome, the lane monitor's figures and an optional trace.
 
 use crate::oob::SbstSide;
-use serde::{Deserialize, Deserializer, Serialize};
+use serde::{Deserialize, Serialize};
 
 /// Verdict of one drive.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -35,7 +35,7 @@ pub enum StopReason {
     Interrupted,
 }
 
-/// One oracle sample of the drive.
+/// One lane-monitor sample of the drive.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Sample {
     /// Simulated time, seconds.
@@ -61,7 +61,10 @@ pub struct Sample {
     /// The competition's `oob_distance`: half the lane width minus the distance from the car
     /// centre to the lane's centre line, metres (the per-sample value of `MEAN_LP`; absent, so
     /// NaN, in traces written before it was).
-    #[serde(default = "nan", deserialize_with = "nan_for_null")]
+    #[serde(
+        default = "crate::json_float::nan",
+        deserialize_with = "crate::json_float::nan_for_null"
+    )]
     pub oob_distance_m: f64,
     /// The driver's throttle command in force, `[0, 1]`.
     #[serde(default)]
@@ -107,41 +110,41 @@ pub struct SimResult {
     /// Why the drive did not pass.
     pub reason: Option<StopReason>,
     /// Largest BOLP over the samples, `[0, 1]`.
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub max_bolp: f64,
     /// Smallest signed distance of the car centre to the lane's edges over the samples, metres
     /// (2 when always centred, negative when the centre left the lane).
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub min_lane_distance_m: f64,
     /// Fitness from the lane distance, `[0, 1]`: `clamp((2 - min_lane_distance_m) / 2.85, 0, 1)`,
     /// 0 when the car stays centred, 1 when its centre got 0.85 m outside the lane.
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub fitness_distance: f64,
     /// Simulated time, seconds.
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub sim_time_s: f64,
     /// Wall time of the simulation, milliseconds.
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub execution_ms: f64,
     /// The competition's MAX_CURV of the road, 1/m.
     #[serde(rename = "MAX_CURV")]
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub max_curv: f64,
     /// The competition's DIR_COV of the road.
     #[serde(rename = "DIR_COV")]
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub dir_cov: f64,
     /// Population standard deviation of the front wheels' steering angle, degrees.
     #[serde(rename = "STD_SA")]
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub std_sa: f64,
     /// Mean over the samples of `2 - distance from the car centre to the right lane's centre`.
     #[serde(rename = "MEAN_LP")]
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub mean_lp: f64,
     /// Largest such value.
     #[serde(rename = "MAX_LP")]
-    #[serde(deserialize_with = "nan_for_null")]
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub max_lp: f64,
     /// Where the car first left its lane, when it did (absent in records written before it was).
     #[serde(default)]
@@ -149,17 +152,6 @@ pub struct SimResult {
     /// The samples, when a trace was asked for.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub trace: Option<Vec<Sample>>,
-}
-
-/// NaN, the value of a figure a record does not carry.
-fn nan() -> f64 {
-    f64::NAN
-}
-
-/// Reads a number that serde_json wrote as `null` (it writes NaN and infinities so) as NaN, so
-/// that a drive whose figures broke down still reads back.
-fn nan_for_null<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::NAN))
 }
 
 #[cfg(test)]

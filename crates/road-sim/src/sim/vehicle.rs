@@ -9,7 +9,7 @@
 //! Positive steering turns left.
 
 use crate::road::Point;
-use crate::settings::{all_non_negative, all_positive, SettingsError};
+use crate::setting_checks::{all_non_negative, all_positive, SettingsError};
 use rapier3d::control::{DynamicRayCastVehicleController, WheelTuning};
 use rapier3d::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct VehicleParams {
-    /// Body length, metres (the footprint the oracle measures).
+    /// Body length, metres (the footprint the lane monitor measures).
     pub length_m: f64,
     /// Body width, metres.
     pub width_m: f64,

@@ -16,9 +16,9 @@ use burn::prelude::*;
 use burn::tensor::activation::{relu, tanh};
 use rand::Rng;
 
-use crate::batch_norm::BatchNorm;
+use super::batch_norm::BatchNorm;
+use super::layers::linear;
 use crate::config::GeneratorConfig;
-use crate::nn::linear;
 
 /// Generator network.
 #[derive(Module, Debug)]

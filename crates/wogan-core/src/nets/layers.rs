@@ -1,4 +1,4 @@
-//! Small helpers shared by the three networks: seeded initialisation and tensor conversion.
+//! Small helpers shared by the networks: seeded initialisation and tensor conversion.
 //!
 //! Weights are drawn from the run's own RNG (PyTorch's default `U(-1/√fan_in, 1/√fan_in)`), not
 //! from burn's device RNG, so a run is reproducible from its seed whatever else uses the device.
@@ -26,6 +26,21 @@ pub(crate) fn linear<R: Rng + ?Sized>(
         weight: Param::from_data(TensorData::new(w, [d_in, d_out]), device),
         bias: Some(Param::from_data(TensorData::new(b, [d_out]), device)),
     }
+}
+
+/// The three dense layers `d → hidden → hidden → 1` of the critic and the analyzer, initialised
+/// from `rng` in that order.
+pub(crate) fn three_layers<R: Rng + ?Sized>(
+    rng: &mut R,
+    dim: usize,
+    hidden: usize,
+    device: &Device,
+) -> [Linear; 3] {
+    [
+        linear(rng, dim, hidden, device),
+        linear(rng, hidden, hidden, device),
+        linear(rng, hidden, 1, device),
+    ]
 }
 
 /// A `[rows, cols]` tensor from row-major values.

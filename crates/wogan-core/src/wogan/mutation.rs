@@ -11,38 +11,8 @@
 //! alone are usually neighbours, so every mutant lands in one region and the failures found are
 //! near copies (`docs/experiments/` has the measurements).
 
+use crate::config::MutationConfig;
 use rand::{Rng, RngExt};
-use serde::{Deserialize, Serialize};
-
-/// How many candidates are mutants and how far they move.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct MutationConfig {
-    /// Share of candidates that are mutants (0 = the paper's WOGAN).
-    pub share: f64,
-    /// Parents are drawn uniformly from this many of the highest-fitness tests.
-    pub parents: usize,
-    /// A test becomes a parent only this far (Euclidean, normalised units) from every
-    /// higher-fitness parent, so that mutants spread over several regions (0: the best tests,
-    /// however close together).
-    pub min_parent_distance: f32,
-    /// Largest change of one value (normalised units).
-    pub max_step: f32,
-    /// Probability that a mutant is also reversed, half-swapped or mirrored.
-    pub reshape_probability: f64,
-}
-
-impl Default for MutationConfig {
-    fn default() -> Self {
-        Self {
-            share: 0.0,
-            parents: 8,
-            min_parent_distance: 0.5,
-            max_step: 0.15,
-            reshape_probability: 0.25,
-        }
-    }
-}
 
 /// Indices of the `count` highest `scores`, highest first (ties broken by index).
 ///

@@ -5,12 +5,12 @@
 # fitness has a slope: the car's centre within 0.2 m of where its 1.9 m wide body would touch the
 # lane edge, BOLP <= 0.002), the spread of fitness_distance, and failures by the road's sharpness.
 #
-#   scripts/screen_driver.sh                 # the built-in student
-#   scripts/screen_driver.sh student.bin     # weights written by `wogan train-driver`
+#   scripts/experiments/screen_driver.sh                 # the built-in student
+#   scripts/experiments/screen_driver.sh student.bin     # weights written by `wogan train-driver`
 #
 # About 45 s on one core. Needs only bash, sort and awk.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 weights=${1:-}
 [ -n "${WOGAN:-}" ] || cargo build --release -q -p wogan-cli
 results=$(mktemp)

@@ -12,8 +12,8 @@ use burn::nn::Linear;
 use burn::prelude::*;
 use rand::Rng;
 
+use super::layers::{slopes, three_layers};
 use crate::config::CriticConfig;
-use crate::nn::{linear, slopes};
 
 /// Added under the square root of the gradient norm (the reference's value).
 const GP_EPS: f64 = 1e-6;
@@ -45,10 +45,11 @@ impl Critic {
         rng: &mut R,
         device: &Device,
     ) -> Self {
+        let [l1, l2, l3] = three_layers(rng, dim, cfg.hidden, device);
         Self {
-            l1: linear(rng, dim, cfg.hidden, device),
-            l2: linear(rng, cfg.hidden, cfg.hidden, device),
-            l3: linear(rng, cfg.hidden, 1, device),
+            l1,
+            l2,
+            l3,
             slope: cfg.leaky_slope,
         }
     }
@@ -114,7 +115,7 @@ mod tests {
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha20Rng;
 
-    use crate::nn::values;
+    use crate::nets::layers::values;
 
     struct F64Critic {
         d: usize,
@@ -219,9 +220,10 @@ mod tests {
             .collect();
         let to_t = |r: &[Vec<f64>]| {
             let v: Vec<f32> = r.iter().flatten().map(|x| *x as f32).collect();
-            crate::nn::matrix(v, m, d, &device)
+            crate::nets::layers::matrix(v, m, d, &device)
         };
-        let eps_t = crate::nn::matrix(eps.iter().map(|e| *e as f32).collect(), m, 1, &device);
+        let eps_t =
+            crate::nets::layers::matrix(eps.iter().map(|e| *e as f32).collect(), m, 1, &device);
         let coef = if with_penalty_in_burn { 10.0 } else { 0.0 };
         let loss = critic.loss(to_t(&real), to_t(&fake), eps_t, coef).loss;
         let grads = loss.backward();

@@ -74,7 +74,7 @@ impl BatchNorm {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nn::{matrix, values};
+    use crate::nets::layers::{matrix, values};
 
     #[test]
     fn training_normalises_by_the_batch_and_keeps_the_unbiased_variance() {

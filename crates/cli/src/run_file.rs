@@ -16,7 +16,7 @@ pub struct RunKey {
     /// Search algorithm (`wogan`, `random`).
     pub algorithm: String,
     /// Driver under test.
-    pub oracle: String,
+    pub driver: String,
     /// Fitness function (`bolp`, `distance`).
     pub fitness: String,
     /// BOLP above which a drive fails, as text to compare exactly.
@@ -39,7 +39,7 @@ impl RunKey {
         };
         format!(
             "{} / {} / fitness {}{acceptance} / oob {} / {} km/h",
-            self.algorithm, self.oracle, self.fitness, self.oob_tolerance, self.speed_limit_kmh
+            self.algorithm, self.driver, self.fitness, self.oob_tolerance, self.speed_limit_kmh
         )
     }
 
@@ -48,7 +48,7 @@ impl RunKey {
     pub fn conditions(&self) -> String {
         format!(
             "driver {}, oob {}, {} km/h",
-            self.oracle, self.oob_tolerance, self.speed_limit_kmh
+            self.driver, self.oob_tolerance, self.speed_limit_kmh
         )
     }
 }
@@ -65,7 +65,7 @@ pub struct RunHeader {
     /// Side of the map, metres.
     pub map_size_m: f64,
     /// The driver under test.
-    pub oracle: DriverKind,
+    pub driver: DriverKind,
     /// Every setting as the header gives it (for replaying a test).
     pub config: Value,
 }
@@ -192,7 +192,7 @@ fn read_header(header: &Header) -> RunHeader {
     let algorithm = header.algorithm.clone();
     RunHeader {
         key: RunKey {
-            oracle: header.oracle.name().to_owned(),
+            driver: header.driver.name().to_owned(),
             fitness: header.fitness.name().to_owned(),
             oob_tolerance: text(oob),
             speed_limit_kmh: text(speed),
@@ -206,7 +206,7 @@ fn read_header(header: &Header) -> RunHeader {
             .pointer("/road/map_size_m")
             .and_then(Value::as_f64)
             .unwrap_or(200.0),
-        oracle: header.oracle,
+        driver: header.driver,
         config: header.config.clone(),
     }
 }

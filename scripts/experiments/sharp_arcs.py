@@ -6,9 +6,9 @@ A driver that fails per sharp bend fails long roads of many bends more often tha
 roads; one that failed only on long sustained arcs would not, if 75 m roads held more of them.
 This measures whether they do (docs/experiments/2026-11-23-drivers-on-long-roads.md).
 
-    python3 scripts/sharp_arcs.py tests/reference/roads.jsonl tests/reference/peer_roads_dev.jsonl
+    python3 scripts/experiments/sharp_arcs.py tests/reference/roads.jsonl tests/reference/peer_roads_dev.jsonl
     target/release/wogan run --algorithm random --curvature-points 12 --max-tests 300 --seed 1 \
-        --out long.jsonl && python3 scripts/sharp_arcs.py long.jsonl
+        --out long.jsonl && python3 scripts/experiments/sharp_arcs.py long.jsonl
 
 Roads are read by `wogan validate --details` (its interpolated centre line), so any form it reads
 works; a file with a "generator" field per road is split by it. Curvature is that of the circle

@@ -8,7 +8,7 @@ beside the `oob_stats.csv` wogan wrote there, and whether the two CSV texts are 
 recomputes every test's features with the pipeline's `compute_all_features` from the file's road
 and `execution_data`, reporting the largest difference from the `features` wogan wrote:
 
-    python3 scripts/reference/sbst_oob_compare.py --pipeline /work/tca target/sbst/export/*
+    python3 scripts/experiments/sbst_oob_compare.py --pipeline /work/tca target/sbst/export/*
 
 A directory on which the pipeline's analysis raises is reported with the exception; wogan then
 writes no `oob_stats.csv` and says why on stderr. Exits 1 when any directory disagrees.

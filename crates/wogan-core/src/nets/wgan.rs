@@ -7,11 +7,11 @@ use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
 use burn::prelude::*;
 use rand::{Rng, RngExt};
 
+use super::critic::Critic;
+use super::generator::Generator;
+use super::layers::{matrix, scalar, uniform_noise};
 use crate::config::{CriticConfig, GeneratorConfig, WganConfig};
-use crate::critic::Critic;
 use crate::error::Error;
-use crate::generator::Generator;
-use crate::nn::{matrix, scalar, uniform_noise};
 
 /// What one critic step measured.
 #[derive(Debug, Clone, Copy, Default)]

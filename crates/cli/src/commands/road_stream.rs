@@ -9,9 +9,9 @@
 //! A JSON value spread over several lines (a pretty-printed competition test) is read as one
 //! input, answered under the number of its first line.
 
+use super::Status;
 use crate::json_lines::{numbered_lines, InputLine, JsonLinesWriter};
 use crate::records::{ErrorRecord, Record};
-use crate::Status;
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;

@@ -2,23 +2,22 @@
 //! the choice of the next test (the body of the paper's Algorithm 1).
 //!
 //! The loop around it (random phase, retraining every few tests, budget, events) is in
-//! [`crate::run`].
+//! [`crate::run()`].
 
 use burn::prelude::*;
 use rand::seq::index;
 use rand::{Rng, RngExt};
 
-use crate::acceptance::Acceptance;
-use crate::analyzer::{logit_target, Analyzer, AnalyzerTrainer};
-use crate::bins::{biased_batch, bin_of, RngDraws};
+use super::acceptance::Acceptance;
+use super::bins::{biased_batch, bin_of, RngDraws};
+use super::mutation::{mutate, parent_indices};
 use crate::config::WoganConfig;
 use crate::error::Error;
-use crate::generator::Generator;
-use crate::mutation::{mutate, parent_indices};
-use crate::nn::{matrix, uniform_noise, values};
-use crate::sampler::Sampler;
+use crate::nets::{
+    logit_target, matrix, uniform_noise, values, Analyzer, AnalyzerTrainer, Generator, Wgan,
+};
 use crate::sut::Sut;
-use crate::wgan::Wgan;
+use crate::test_sampler::Sampler;
 
 /// Losses reported by one training round (those of its last steps).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

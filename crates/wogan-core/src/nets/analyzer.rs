@@ -20,9 +20,9 @@ use burn::prelude::*;
 use burn::tensor::activation::{relu, sigmoid};
 use rand::Rng;
 
+use super::layers::{scalar, three_layers};
 use crate::config::AnalyzerConfig;
 use crate::error::Error;
-use crate::nn::{linear, scalar};
 
 /// Analyzer network.
 #[derive(Module, Debug)]
@@ -55,11 +55,8 @@ impl Analyzer {
         rng: &mut R,
         device: &Device,
     ) -> Self {
-        Self {
-            l1: linear(rng, dim, cfg.hidden, device),
-            l2: linear(rng, cfg.hidden, cfg.hidden, device),
-            l3: linear(rng, cfg.hidden, 1, device),
-        }
+        let [l1, l2, l3] = three_layers(rng, dim, cfg.hidden, device);
+        Self { l1, l2, l3 }
     }
 
     /// Pre-sigmoid outputs `[n, 1]`.
@@ -172,8 +169,8 @@ mod tests {
             ys.push(logit_target(f));
         }
         let mut t = AnalyzerTrainer::new(d, &AnalyzerConfig::default(), &mut rng, &device);
-        let x = crate::nn::matrix(xs, n, d, &device);
-        let y = crate::nn::matrix(ys, n, 1, &device);
+        let x = crate::nets::layers::matrix(xs, n, d, &device);
+        let y = crate::nets::layers::matrix(ys, n, 1, &device);
         let first = t.step(x.clone(), y.clone(), true).unwrap().unwrap();
         for _ in 0..300 {
             assert!(t.step(x.clone(), y.clone(), false).unwrap().is_none());
@@ -181,13 +178,13 @@ mod tests {
         let last = t.step(x.clone(), y.clone(), true).unwrap().unwrap();
         eprintln!("analyzer loss {first} -> {last}");
         assert!(last < 0.5 * first, "loss {first} → {last}");
-        let probe = crate::nn::matrix(
+        let probe = crate::nets::layers::matrix(
             vec![-0.9, 0.0, 0.0, 0.9, 0.0, 0.0],
             2,
             d,
             &device.clone().without_autodiff(),
         );
-        let p = crate::nn::values(t.model.valid().predict(probe)).unwrap();
+        let p = crate::nets::layers::values(t.model.valid().predict(probe)).unwrap();
         assert!(p[1] > p[0] + 0.3, "predictions {p:?}");
     }
 }

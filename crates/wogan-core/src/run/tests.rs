@@ -1,0 +1,403 @@
+//! Tests of whole runs on small SUTs: schedules, seeds, budgets and stops.
+
+use super::*;
+use crate::{Execution, SbstBudget};
+use std::time::Duration;
+
+/// Fitness: a bump around a valid point; validity: a half-space through the bump's edge.
+struct Bump;
+const CENTRE: [f32; 5] = [0.6, 0.4, 0.6, 0.4, 0.5];
+impl Sut for Bump {
+    type Output = f32;
+    fn dim(&self) -> usize {
+        5
+    }
+    fn is_valid(&self, t: &[f32]) -> bool {
+        t.iter().sum::<f32>() <= 2.8
+    }
+    fn execute(&self, t: &[f32]) -> Option<Execution<f32>> {
+        assert!(self.is_valid(t), "an invalid test was executed");
+        let d2: f32 = t.iter().zip(CENTRE).map(|(a, b)| (a - b).powi(2)).sum();
+        Some(Execution {
+            fitness: f64::from((-d2 / 0.5).exp()),
+            execution_time_s: 10.0,
+            output: d2,
+        })
+    }
+}
+
+fn collect(config: &RunConfig, budget: Budget, seed: u64) -> (Vec<Event<f32>>, Summary) {
+    let stop = AtomicBool::new(false);
+    let mut events = Vec::new();
+    let summary = run(&Bump, config, budget, seed, &stop, &mut |e| events.push(e)).unwrap();
+    (events, summary)
+}
+
+fn tests_of(events: &[Event<f32>]) -> Vec<(usize, Phase, Vec<f32>, f64)> {
+    events
+        .iter()
+        .filter_map(|e| match e {
+            Event::Test {
+                id,
+                phase,
+                test,
+                fitness,
+                ..
+            } => Some((*id, *phase, test.clone(), *fitness)),
+            Event::Train { .. } => None,
+        })
+        .collect()
+}
+
+#[test]
+fn wogan_beats_random_on_a_bump() {
+    let budget = Budget {
+        max_tests: Some(200),
+        wall: None,
+        sbst: None,
+    };
+    let wogan = RunConfig::default();
+    let random = RunConfig {
+        algorithm: Algorithm::Random,
+        ..RunConfig::default()
+    };
+    let mean_tail = |config: &RunConfig| {
+        let (events, summary) = collect(config, budget, 5);
+        assert_eq!(summary.executed, 200);
+        let t = tests_of(&events);
+        assert_eq!(t.len(), 200);
+        for (i, (id, ..)) in t.iter().enumerate() {
+            assert_eq!(*id, i + 1);
+        }
+        let tail = &t[160..];
+        tail.iter().map(|x| x.3).sum::<f64>() / tail.len() as f64
+    };
+    let w = mean_tail(&wogan);
+    let r = mean_tail(&random);
+    eprintln!("tail mean fitness: WOGAN {w} random {r}");
+    assert!(w > r + 0.05, "WOGAN {w} vs random {r}");
+}
+
+#[test]
+fn same_seed_same_tests() {
+    let config = RunConfig {
+        wogan: crate::WoganConfig {
+            init_fraction: 0.5,
+            ..Default::default()
+        },
+        ..RunConfig::default()
+    };
+    let budget = Budget {
+        max_tests: Some(30),
+        wall: None,
+        sbst: None,
+    };
+    let (a, sa) = collect(&config, budget, 9);
+    let (b, _) = collect(&config, budget, 9);
+    let (c, _) = collect(&config, budget, 10);
+    let (ta, tb, tc) = (tests_of(&a), tests_of(&b), tests_of(&c));
+    assert_eq!(ta, tb);
+    assert_ne!(ta, tc);
+    assert_eq!(ta.iter().filter(|t| t.1 == Phase::Random).count(), 15);
+    assert_eq!(ta.iter().filter(|t| t.1 == Phase::Wogan).count(), 15);
+    let trains = a
+        .iter()
+        .filter(|e| matches!(e, Event::Train { .. }))
+        .count();
+    assert_eq!(trains, 5, "retrain every 3 tests");
+    assert_eq!(sa.executed, 30);
+    let invalid: usize = a
+        .iter()
+        .map(|e| match e {
+            Event::Test {
+                invalid_candidates, ..
+            } => *invalid_candidates,
+            Event::Train { .. } => 0,
+        })
+        .sum();
+    assert_eq!(invalid, sa.invalid_candidates);
+    assert!(invalid > 0, "the half-space rejects some random walks");
+}
+
+#[test]
+fn events_serialise_as_tagged_json() {
+    let budget = Budget {
+        max_tests: Some(12),
+        wall: None,
+        sbst: None,
+    };
+    let (events, _) = collect(&RunConfig::default(), budget, 3);
+    let lines: Vec<String> = events
+        .iter()
+        .map(|e| serde_json::to_string(e).unwrap())
+        .collect();
+    assert!(lines[0].starts_with(r#"{"type":"test","id":1,"phase":"random""#));
+    assert!(lines.iter().any(|l| l.starts_with(r#"{"type":"train","#)));
+    assert!(lines.last().unwrap().contains(r#""phase":"wogan""#));
+}
+
+/// One-dimensional, always valid: the smallest case the networks must handle.
+struct Line;
+impl Sut for Line {
+    type Output = ();
+    fn dim(&self) -> usize {
+        1
+    }
+    fn is_valid(&self, _: &[f32]) -> bool {
+        true
+    }
+    fn execute(&self, t: &[f32]) -> Option<Execution<()>> {
+        Some(Execution {
+            fitness: f64::from(t[0]) * 2.0, // partly outside [0, 1]: clamped
+            execution_time_s: 0.0,
+            output: (),
+        })
+    }
+}
+
+#[test]
+fn tiny_runs_work_at_the_edges_of_the_schedule() {
+    let stop = AtomicBool::new(false);
+    for init_fraction in [0.0, 1.0] {
+        let config = RunConfig {
+            wogan: crate::WoganConfig {
+                init_fraction,
+                ..Default::default()
+            },
+            ..RunConfig::default()
+        };
+        let budget = Budget {
+            max_tests: Some(5),
+            wall: None,
+            sbst: None,
+        };
+        let mut phases = Vec::new();
+        let s = run(&Line, &config, budget, 1, &stop, &mut |e| {
+            if let Event::Test { phase, fitness, .. } = e {
+                assert!((0.0..=1.0).contains(&fitness));
+                phases.push(phase);
+            }
+        })
+        .unwrap();
+        assert_eq!(s.executed, 5);
+        let random = phases.iter().filter(|p| **p == Phase::Random).count();
+        assert_eq!(random, if init_fraction == 0.0 { 1 } else { 5 });
+    }
+    let zero = Budget {
+        max_tests: Some(0),
+        wall: None,
+        sbst: None,
+    };
+    let s = run(&Line, &RunConfig::default(), zero, 1, &stop, &mut |_| {}).unwrap();
+    assert_eq!(s.executed, 0);
+}
+
+#[test]
+fn parallel_random_phase_matches_serial() {
+    let budget = Budget {
+        max_tests: Some(25),
+        wall: None,
+        sbst: None,
+    };
+    let serial = RunConfig {
+        algorithm: Algorithm::Random,
+        ..RunConfig::default()
+    };
+    let parallel = RunConfig {
+        jobs: 3,
+        ..serial.clone()
+    };
+    let (a, _) = collect(&serial, budget, 1);
+    let (b, sb) = collect(&parallel, budget, 1);
+    assert_eq!(tests_of(&a), tests_of(&b));
+    assert_eq!(sb.executed, 25);
+}
+
+#[test]
+fn stop_flag_ends_the_run_after_the_current_test() {
+    let stop = AtomicBool::new(false);
+    let mut n = 0;
+    let summary = run(
+        &Bump,
+        &RunConfig::default(),
+        Budget::default(),
+        1,
+        &stop,
+        &mut |e| {
+            if matches!(e, Event::Test { .. }) {
+                n += 1;
+                if n == 7 {
+                    stop.store(true, Ordering::Relaxed);
+                }
+            }
+        },
+    )
+    .unwrap();
+    assert_eq!(summary.executed, 7);
+    assert!(summary.stopped_by_signal);
+}
+
+#[test]
+fn wall_clock_budget_ends_the_run() {
+    let budget = Budget {
+        max_tests: None,
+        wall: Some(Duration::from_millis(300)),
+        sbst: None,
+    };
+    let (_, s) = collect(&RunConfig::default(), budget, 2);
+    assert!(s.executed > 0);
+    assert!(!s.stopped_by_signal);
+    assert!(s.wall_s < 5.0);
+}
+
+/// The test events of a run: (id, beyond_budget, execution_time_s).
+fn charged(events: &[Event<f32>]) -> Vec<(usize, bool, f64)> {
+    events
+        .iter()
+        .filter_map(|e| match e {
+            Event::Test {
+                id,
+                beyond_budget,
+                execution_time_s,
+                ..
+            } => Some((*id, *beyond_budget, *execution_time_s)),
+            Event::Train { .. } => None,
+        })
+        .collect()
+}
+
+#[test]
+fn an_execution_budget_ends_the_run_as_the_pipeline_does() {
+    // Each Bump test takes 10 simulated seconds: five fit in 55 s, the sixth ends with the
+    // budget spent, is reported beyond it and is not kept.
+    // With several jobs the random phase runs tests at once; they are charged in test order.
+    for (algorithm, jobs) in [
+        (Algorithm::Random, 1),
+        (Algorithm::Random, 4),
+        (Algorithm::Wogan, 1),
+        (Algorithm::Wogan, 3),
+    ] {
+        let config = RunConfig {
+            algorithm,
+            jobs,
+            ..RunConfig::default()
+        };
+        let budget = Budget {
+            sbst: Some(SbstBudget {
+                generation: Duration::from_secs(3600),
+                execution_s: 55.0,
+            }),
+            ..Budget::default()
+        };
+        let (events, summary) = collect(&config, budget, 4);
+        let tests = charged(&events);
+        assert_eq!(tests.len(), 6, "{algorithm:?}, {jobs} jobs");
+        let ids: Vec<usize> = tests.iter().map(|&(id, _, _)| id).collect();
+        assert_eq!(ids, [1, 2, 3, 4, 5, 6]);
+        assert!(tests[..5].iter().all(|&(_, beyond, _)| !beyond));
+        assert_eq!(tests[5], (6, true, 10.0));
+        assert_eq!(summary.executed, 5);
+        assert_eq!(summary.beyond_budget, 1);
+        assert_eq!(summary.execution_time_s, 60.0);
+        assert!(summary.sbst_generation_s > 0.0);
+    }
+}
+
+#[test]
+fn a_spent_generation_budget_discards_the_test_in_hand() {
+    // The first test's generation already spends a budget of one nanosecond: the pipeline
+    // still executes it (simulated time remains), then discards it and ends the run.
+    let budget = Budget {
+        sbst: Some(SbstBudget {
+            generation: Duration::from_nanos(1),
+            execution_s: 1000.0,
+        }),
+        ..Budget::default()
+    };
+    let (events, summary) = collect(&RunConfig::default(), budget, 1);
+    assert_eq!(charged(&events), vec![(1, true, 10.0)]);
+    assert_eq!(summary.executed, 0);
+}
+
+#[test]
+fn sbst_runs_are_reproducible_when_the_execution_budget_binds() {
+    let budget = Budget {
+        sbst: Some(SbstBudget {
+            generation: Duration::from_secs(3600),
+            execution_s: 205.0,
+        }),
+        ..Budget::default()
+    };
+    let tests = |(events, _): (Vec<Event<f32>>, Summary)| -> Vec<Vec<f32>> {
+        events
+            .into_iter()
+            .filter_map(|e| match e {
+                Event::Test { test, .. } => Some(test),
+                Event::Train { .. } => None,
+            })
+            .collect()
+    };
+    let a = tests(collect(&RunConfig::default(), budget, 8));
+    assert_eq!(a.len(), 21);
+    assert_eq!(a, tests(collect(&RunConfig::default(), budget, 8)));
+}
+
+/// A SUT whose `n`-th execution is cut short by a stop raised during it.
+struct StoppedAt<'a> {
+    n: usize,
+    calls: std::sync::atomic::AtomicUsize,
+    stop: &'a AtomicBool,
+}
+
+impl Sut for StoppedAt<'_> {
+    type Output = usize;
+    fn dim(&self) -> usize {
+        2
+    }
+    fn is_valid(&self, _: &[f32]) -> bool {
+        true
+    }
+    fn execute(&self, _: &[f32]) -> Option<Execution<usize>> {
+        let call = self.calls.fetch_add(1, Ordering::SeqCst) + 1;
+        if call == self.n {
+            self.stop.store(true, Ordering::SeqCst);
+            return None;
+        }
+        Some(Execution {
+            fitness: 0.5,
+            execution_time_s: 0.0,
+            output: call,
+        })
+    }
+}
+
+#[test]
+fn an_execution_cut_short_by_a_stop_is_not_reported() {
+    for (algorithm, n) in [(Algorithm::Random, 4), (Algorithm::Wogan, 70)] {
+        let stop = AtomicBool::new(false);
+        let sut = StoppedAt {
+            n,
+            calls: Default::default(),
+            stop: &stop,
+        };
+        let config = RunConfig {
+            algorithm,
+            ..RunConfig::default()
+        };
+        let budget = Budget {
+            max_tests: Some(300),
+            wall: None,
+            sbst: None,
+        };
+        let mut outputs = Vec::new();
+        let summary = run(&sut, &config, budget, 1, &stop, &mut |e| {
+            if let Event::Test { output, .. } = e {
+                outputs.push(output);
+            }
+        })
+        .unwrap();
+        assert_eq!(outputs, (1..n).collect::<Vec<_>>(), "{algorithm:?}");
+        assert_eq!(summary.executed, n - 1);
+        assert!(summary.stopped_by_signal);
+    }
+}

@@ -1,0 +1,12 @@
+//! WOGAN's test choice: the learning state ([`WoganModel`]), the fitness bins that bias its GAN
+//! batches, the acceptance rule that picks a candidate, and the optional mutants.
+
+mod acceptance;
+mod bins;
+mod model;
+mod mutation;
+
+#[cfg(test)]
+pub(crate) use acceptance::Acceptance;
+pub use bins::{biased_batch, bin_of, bin_weights, BatchDraws, RngDraws};
+pub use model::{Proposal, TrainStats, WoganModel};
