@@ -7,6 +7,7 @@
 #   WOGAN=/path/to/wogan scripts/results.sh
 #   MAKE_RUNS=1 scripts/results.sh                      # first make the missing search runs
 #   ALLOW_MISSING=1 scripts/results.sh                  # write what there is; name what is missing
+#   ONLY=generator,ci scripts/results.sh                # regenerate those sections of docs/results.md in place
 #
 # What it reads (nothing here is measured twice: each source has its own script):
 #   target/effectiveness/ORACLE.TAG.ALGORITHM.SEED.jsonl   scripts/search_figures.sh (seeds 1-20)
@@ -60,6 +61,10 @@ missing_runs() {
 }
 
 missing=$(missing_runs)
+# Regenerating only other sections (ONLY=...) needs none of the search runs.
+if [ -n "${ONLY:-}" ] && ! echo ",$ONLY," | grep -qE ',(search|comparisons),'; then
+  missing=""
+fi
 if [ -n "$missing" ] && [ "${MAKE_RUNS:-0}" = 1 ]; then
   # search_figures.sh reuses every complete run (REUSE=1) and makes the rest; stgem's runs need
   # torch and a stgem checkout, so they are only named.
@@ -281,6 +286,54 @@ def sbst_section():
         out()
         for line in report_table(*wogan, "--vs", *random):
             out(line)
+
+
+# ---------------------------------------------------------------------------------------------
+# The saved generator (issue 35): 50 tests chosen with the generator of a 300-test run against 50
+# random tests of the same seed, per driver (scripts/generator_figures.sh).
+def generator_section():
+    out()
+    out("## Sampling from a saved generator")
+    out()
+    out("Per seed (1–20) and driver, a 300-test WOGAN run at the paper's settings saves its "
+        "generator (`--save-generator`); 50 tests chosen with it (`wogan run --generator`, the "
+        "roads `wogan sample` draws with the same seed, without training) are compared with 50 "
+        "random tests of the same seed by `wogan report SAMPLED --vs RANDOM --table` (A: sampled, "
+        "B: random). Runs: `scripts/generator_figures.sh`.")
+    for oracle in ORACLES:
+        sampled = [f"target/generator/{oracle}.sampled.{s}.jsonl" for s in SEEDS]
+        random = [f"target/generator/{oracle}.random.{s}.jsonl" for s in SEEDS]
+        sampled = [p for p in sampled if os.path.exists(p)]
+        random = [p for p in random if os.path.exists(p)]
+        out()
+        out(f"### {oracle}")
+        out()
+        if not sampled or not random:
+            out(f"Runs missing: `ORACLES={oracle} scripts/generator_figures.sh`.")
+            continue
+        rows = report_table(*sampled, "--vs", *random)
+        keep = ("| failures per run ", "| diversity ", "| closest approach", "| first failing test")
+        for line in rows:
+            if not line.startswith("| ") or line.startswith(("| measure ",) + keep):
+                out(line)
+
+
+# ---------------------------------------------------------------------------------------------
+# What the CI commands cost (issue 35's bars), from scripts/ci_bench.sh's saved output.
+def ci_section():
+    out()
+    out("## CI commands")
+    out()
+    path = "target/bench-output/ci.txt"
+    if not os.path.exists(path):
+        out("Not measured yet: `scripts/ci_bench.sh | tee target/bench-output/ci.txt`.")
+        return
+    when = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc)
+    out(f"`scripts/ci_bench.sh` ({when:%Y-%m-%d}), each line its own output:")
+    out()
+    for line in open(path):
+        if line.startswith("wogan "):
+            out(f"- {line.strip()}")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -651,9 +704,89 @@ def earlier_section(trained):
 
 
 # ---------------------------------------------------------------------------------------------
+# Every section, in page order: its name (for ONLY=...) and what writes it.
+def sections(bench):
+    state = {}
+
+    def reference_roads():
+        state["per_road"] = reference_roads_section(bench)
+
+    def benches():
+        bench_section(bench, state.get("per_road") or reference_roads_section_quiet())
+
+    def training():
+        state["trained"] = training_section()
+
+    return [
+        ("search", search_section),
+        ("comparisons", comparisons_section),
+        ("sbst", sbst_section),
+        ("generator", generator_section),
+        ("ci", ci_section),
+        ("reference-roads", reference_roads),
+        ("long-roads", long_roads_section),
+        ("fidelity", fidelity_section),
+        ("benches", benches),
+        ("bounds", bounds_section),
+        ("training", training),
+        ("earlier", lambda: earlier_section(state.get("trained"))),
+    ]
+
+
+def reference_roads_section_quiet():
+    """The reference roads' timings without writing their section (benches alone)."""
+    kept = len(lines)
+    per_road = reference_roads_section(criterion())
+    del lines[kept:]
+    return per_road
+
+
+def splice(old_text, new_lines, stamp):
+    """`old_text` with each `## ` section of `new_lines` put in place of the one of that heading
+    (or, when it has none, before the earlier sessions' section), and `stamp` under the header."""
+    def split(text_lines):
+        head, blocks, current = [], [], None
+        for line in text_lines:
+            if line.startswith("## "):
+                current = [line]
+                blocks.append(current)
+            elif current is None:
+                head.append(line)
+            else:
+                current.append(line)
+        return head, blocks
+    head, blocks = split(old_text.split("\n"))
+    _, fresh = split(new_lines)
+    by_heading = {b[0]: b for b in fresh}
+    merged = [by_heading.pop(b[0], b) for b in blocks]
+    at = next((i for i, b in enumerate(merged) if b[0].startswith("## Figures from earlier")), len(merged))
+    merged[at:at] = list(by_heading.values())
+    while head and head[-1] == "":
+        head.pop()
+    head += [stamp, ""]
+    return "\n".join(head + [line for block in merged for line in block]).rstrip("\n") + "\n"
+
+
 def main():
     m = machine()
     bench = criterion()
+    only = [name for name in os.environ.get("ONLY", "").split(",") if name]
+    chosen = sections(bench)
+    unknown = [name for name in only if name not in dict(chosen)]
+    if unknown:
+        sys.exit(f"results.sh: ONLY names no section: {', '.join(unknown)} (sections: {', '.join(n for n, _ in chosen)})")
+    if only:
+        for name, write in chosen:
+            if name in only:
+                write()
+        stamp = (f"- sections {', '.join(only)} regenerated on {m['date']} (commit {m['commit']}"
+                 f"{' with local changes' if m['dirty'] else ''}; `ONLY={','.join(only)} scripts/results.sh`)")
+        with open(os.environ["OUT"]) as f:
+            text = splice(f.read(), lines, stamp)
+        with open(os.environ["OUT"], "w") as f:
+            f.write(text)
+        print(f"results.sh: regenerated {', '.join(only)} in {os.environ['OUT']}", file=sys.stderr)
+        return
     out("# Results")
     out()
     out("Generated by `scripts/results.sh` (do not edit by hand; run it again). "
@@ -663,7 +796,8 @@ def main():
     out(f"- machine: {m['uname']}, {m['cores']} cores, {m['cpu']}, {m['mem']}; load average at the start {m['load']}")
     out(f"- code: commit {m['commit']}{' with local changes' if m['dirty'] else ''}; binary `{WOGAN}` ({m['wogan']})")
     out("- regenerate: `scripts/results.sh` (after `cargo build --release -p wogan-cli`; "
-        "`WOGAN=PATH` chooses another binary)")
+        "`WOGAN=PATH` chooses another binary); `ONLY=generator,ci scripts/results.sh` "
+        "regenerates those sections in place")
     if os.environ.get("MISSING"):
         out()
         out("**Run files missing** (the tables below leave them out; make them as `scripts/results.sh` prints):")
@@ -671,20 +805,11 @@ def main():
         for line in os.environ["MISSING"].splitlines():
             out(f"- {line}")
     out()
-    search_section()
-    comparisons_section()
-    sbst_section()
-    per_road = reference_roads_section(bench)
-    long_roads_section()
-    fidelity_section()
-    bench_section(bench, per_road)
-    bounds_section()
-    trained = training_section()
-    earlier_section(trained)
+    for _, write in chosen:
+        write()
     with open(os.environ["OUT"], "w") as f:
         f.write("\n".join(lines) + "\n")
     print(f"results.sh: wrote {os.environ['OUT']}", file=sys.stderr)
-
 
 main()
 PY

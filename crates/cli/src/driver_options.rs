@@ -10,6 +10,9 @@ use road_sim::{DriverConfig, DriverKind, SimConfig};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+/// The map's side unless `--map-size` says otherwise, metres (the competition's).
+pub const DEFAULT_MAP_SIZE_M: f64 = 200.0;
+
 /// The driver under test and how it is judged.
 #[derive(Debug, Clone, Args)]
 pub struct DriverOptions {
@@ -27,7 +30,7 @@ pub struct DriverOptions {
     #[arg(long, value_parser = share, allow_negative_numbers = true)]
     pub oob_tolerance: Option<f64>,
     /// Side of the square map, metres.
-    #[arg(long, default_value_t = 200.0, value_parser = map_size_m, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = DEFAULT_MAP_SIZE_M, value_parser = map_size_m, allow_negative_numbers = true)]
     pub map_size: f64,
 }
 

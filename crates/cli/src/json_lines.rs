@@ -55,6 +55,69 @@ pub fn numbered_lines(
     })
 }
 
+/// Most physical lines one JSON value may span before it is answered as an error.
+const MAX_LINES_PER_VALUE: usize = 10_000;
+/// Most bytes one JSON value may span across lines.
+const MAX_BYTES_PER_VALUE: usize = 16 << 20;
+
+/// The JSON values of `input` with the number of the line each begins on: one per non-blank line,
+/// except that a value spread over several lines (a pretty-printed competition test) is joined
+/// into one, within [`MAX_LINES_PER_VALUE`] lines and [`MAX_BYTES_PER_VALUE`] bytes.
+pub fn json_values(input: Box<dyn BufRead + Send>) -> impl Iterator<Item = io::Result<InputLine>> {
+    let mut lines = numbered_lines(input);
+    std::iter::from_fn(move || {
+        let first = lines.next()?;
+        Some(first.and_then(|first| join_continued(first, &mut lines)))
+    })
+}
+
+/// `first` and, when it is the opening bracket of a JSON value spread over lines, the lines that
+/// complete it (within [`MAX_LINES_PER_VALUE`] and [`MAX_BYTES_PER_VALUE`]).
+fn join_continued(
+    first: InputLine,
+    rest: &mut impl Iterator<Item = std::io::Result<InputLine>>,
+) -> std::io::Result<InputLine> {
+    let Ok(text) = &first.text else {
+        return Ok(first);
+    };
+    // Only a line that is nothing but an opening bracket starts a value spread over lines (as a
+    // pretty-printer writes it): a truncated one-line record must not swallow the lines after it.
+    if !matches!(text.trim(), "{" | "[") || !opens_unfinished_value(text) {
+        return Ok(first);
+    }
+    let mut joined = text.clone();
+    for _ in 1..MAX_LINES_PER_VALUE {
+        let Some(next) = rest.next() else { break };
+        match next?.text {
+            Ok(more) => {
+                joined.push('\n');
+                joined.push_str(&more);
+            }
+            Err(error) => {
+                return Ok(InputLine {
+                    number: first.number,
+                    text: Err(error),
+                })
+            }
+        }
+        if joined.len() > MAX_BYTES_PER_VALUE || !opens_unfinished_value(&joined) {
+            break;
+        }
+    }
+    Ok(InputLine {
+        number: first.number,
+        text: Ok(joined),
+    })
+}
+
+/// Whether `text` is the start of a JSON value that more lines could complete.
+fn opens_unfinished_value(text: &str) -> bool {
+    matches!(
+        serde_json::from_str::<serde_json::Value>(text),
+        Err(error) if error.is_eof()
+    )
+}
+
 /// Writes records as JSON lines, flushing after each.
 pub struct JsonLinesWriter {
     out: Box<dyn Write + Send>,
@@ -94,5 +157,39 @@ impl JsonLinesWriter {
             .write_all(&encoded)
             .context("cannot write output")?;
         self.out.flush().context("cannot flush output")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lines(text: &str) -> Vec<(usize, String)> {
+        let input: Box<dyn BufRead + Send> = Box::new(std::io::Cursor::new(text.to_owned()));
+        json_values(input)
+            .map(|line| {
+                let line = line.unwrap();
+                (line.number, line.text.unwrap())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_value_spread_over_lines_is_one_input() {
+        let text = "{\n  \"road_points\": [\n    [1, 2],\n    [3, 4]\n  ]\n}\n[[5, 6], [7, 8]]\n";
+        let read = lines(text);
+        assert_eq!(read.len(), 2, "{read:?}");
+        assert_eq!(read[0].0, 1);
+        assert!(serde_json::from_str::<serde_json::Value>(&read[0].1).is_ok());
+        assert_eq!(read[1], (7, "[[5, 6], [7, 8]]".to_owned()));
+        // A line that is not JSON at all is not joined with the next.
+        assert_eq!(lines("nope\n[[1, 2]]\n").len(), 2);
+        // An unfinished value at the end of the input is given as it is.
+        assert_eq!(lines("{\n\"road_points\": [\n").len(), 1);
+        // A truncated one-line record does not take the next line with it.
+        assert_eq!(
+            lines("{\"road_points\": [[1, 2]\n[[5, 6], [7, 8]]\n").len(),
+            2
+        );
     }
 }

@@ -9,18 +9,24 @@
 mod commands;
 mod config_file;
 mod driver_options;
+mod generator_file;
 mod interrupt;
 mod json_lines;
+mod junit;
+mod output_file;
 mod plan;
 mod records;
 mod report;
 mod road_sut;
 mod run_file;
+mod saved_roads;
 mod sbst;
+mod suite_file;
 mod value_parsers;
 
 use commands::{
-    camera, export, report as report_command, run, simulate, train_driver, validate, Status,
+    camera, export, replay, report as report_command, run, sample, simulate, suite, train_driver,
+    validate, Status,
 };
 
 use clap::{Parser, Subcommand};
@@ -54,6 +60,12 @@ enum Command {
     Report(report_command::ReportArgs),
     /// Write a run in the SBST competition's result layout.
     Export(export::ExportArgs),
+    /// Drive saved roads (runs, suites, road files, exports) again and say what changed.
+    Replay(replay::ReplayArgs),
+    /// Keep failing roads as a regression suite (`add`), or list one (`list`).
+    Suite(suite::SuiteArgs),
+    /// Draw likely-failing roads from a generator saved by `wogan run --save-generator`.
+    Sample(sample::SampleArgs),
 }
 
 fn main() -> ExitCode {
@@ -66,6 +78,9 @@ fn main() -> ExitCode {
         Command::Camera(args) => camera::run(&args),
         Command::Report(args) => report_command::run(&args),
         Command::Export(args) => export::run(&args),
+        Command::Replay(args) => replay::run(&args),
+        Command::Suite(args) => suite::run(&args),
+        Command::Sample(args) => sample::run(&args),
     };
     match outcome {
         Ok(status) => ExitCode::from(status.exit_code()),

@@ -6,7 +6,9 @@
 //! Precedence, lowest first: the paper's and the driver's defaults, the config file, the options.
 
 use crate::config_file::{self, ConfigFile};
-use crate::driver_options::DriverOptions;
+use crate::driver_options::{DriverOptions, DEFAULT_MAP_SIZE_M};
+use crate::generator_file::{self, GeneratorPayload};
+use crate::output_file::same_file;
 use crate::records::{Header, VERSION};
 use crate::value_parsers::{budget_duration, fitness_kind, fraction, share};
 use anyhow::{bail, Context, Result};
@@ -52,10 +54,10 @@ pub struct RunArgs {
     #[arg(long, value_parser = fitness_kind)]
     pub fitness: Option<FitnessKind>,
     /// Curvature values per road (the road has one point more).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(2..=499), allow_negative_numbers = true)]
+    #[arg(long, default_value_t = DEFAULT_CURVATURE_POINTS, value_parser = clap::value_parser!(u32).range(2..=499), allow_negative_numbers = true)]
     pub curvature_points: u32,
     /// Distance between road points, metres.
-    #[arg(long, default_value_t = 15.0, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = DEFAULT_STEP_LENGTH_M, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
     pub step_length: f64,
     /// Share of the budget spent on the initial random search [default: 0.2].
     #[arg(long, value_parser = fraction, allow_negative_numbers = true)]
@@ -77,6 +79,35 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// What makes the exit status 1: never (whatever the run found), or a failing road.
+    #[arg(long, value_enum, default_value_t = FailOn::Never)]
+    pub fail_on: FailOn,
+    /// Also write a JUnit XML report to FILE: one test case per executed test, a failure for each
+    /// failing road (written when the run ends, also after Ctrl-C).
+    #[arg(long, value_name = "FILE")]
+    pub junit: Option<PathBuf>,
+    /// When the run ends, save its trained generator and analyzer to FILE, for `wogan sample`
+    /// (WOGAN only; versioned, with a checksum).
+    #[arg(long, value_name = "FILE")]
+    pub save_generator: Option<PathBuf>,
+    /// Choose every test with the generator and analyzer saved in FILE (`--save-generator`), as
+    /// the trained WOGAN chooses: no random phase, no training. Its roads' settings and WOGAN's
+    /// settings are the file's.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction"])]
+    pub generator: Option<PathBuf>,
+}
+
+/// Curvature values per road unless `--curvature-points` says otherwise (the paper's).
+const DEFAULT_CURVATURE_POINTS: u32 = 5;
+/// Distance between road points unless `--step-length` says otherwise, metres (the paper's).
+const DEFAULT_STEP_LENGTH_M: f64 = 15.0;
+/// `--fail-on` values of `wogan run`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FailOn {
+    /// Exit 0 whatever the run found (the search's own use).
+    Never,
+    /// Exit 1 when the run found a failing road (a CI smoke run).
+    Failure,
 }
 
 /// `--algorithm` values.
@@ -110,6 +141,14 @@ pub struct RunPlan {
     pub out: Option<PathBuf>,
     /// No progress bar.
     pub quiet: bool,
+    /// What makes the exit status 1.
+    pub fail_on: FailOn,
+    /// Where the JUnit report goes, if anywhere.
+    pub junit: Option<PathBuf>,
+    /// Where the trained generator goes, if anywhere.
+    pub save_generator: Option<PathBuf>,
+    /// The saved generator every test is chosen with (`--generator`), if any.
+    pub generator: Option<GeneratorPayload>,
 }
 
 /// The settings that determine a run's results, as its header's `config` shows them.
@@ -137,19 +176,54 @@ pub struct RunSettings {
     pub driver: DriverConfig,
     /// The search's settings.
     pub search: RunConfig,
+    /// The saved generator the tests are chosen with, when one is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub generator: Option<GeneratorSource>,
+}
+
+/// Which saved generator a run chose its tests with, as its header records it.
+#[derive(Debug, Clone, Serialize)]
+pub struct GeneratorSource {
+    /// The file, as given.
+    pub file: String,
+    /// The driver it was trained against.
+    pub driver: String,
+    /// The seed of the run that trained it.
+    pub seed: u64,
+    /// How many tests it learnt from.
+    pub tests: usize,
 }
 
 impl RunPlan {
     /// Resolves `args` (and the config file it names) into a plan, or names what is wrong.
     pub fn resolve(args: &RunArgs) -> Result<Self> {
-        if let Some(out) = &args.out {
-            let inputs = [&args.config, &args.driver.driver_weights];
-            if let Some(input) = inputs.into_iter().flatten().find(|i| same_file(out, i)) {
+        // No output may overwrite an input, nor another output.
+        let inputs = [&args.config, &args.driver.driver_weights, &args.generator];
+        let outputs = [
+            ("--out", &args.out),
+            ("--junit", &args.junit),
+            ("--save-generator", &args.save_generator),
+        ];
+        for (flag, output) in outputs {
+            let Some(output) = output else { continue };
+            if let Some(input) = inputs.into_iter().flatten().find(|i| same_file(output, i)) {
                 bail!(
-                    "--out {} is an input of the run ({}); write the run elsewhere",
-                    out.display(),
+                    "{flag} {} is an input of the run ({}); write it elsewhere",
+                    output.display(),
                     input.display()
                 );
+            }
+        }
+        for (i, (flag, output)) in outputs.iter().enumerate() {
+            for (other_flag, other) in &outputs[i + 1..] {
+                if let (Some(a), Some(b)) = (output, other) {
+                    if a == b || same_file(a, b) {
+                        bail!(
+                            "{other_flag} {} is the {flag} file too; give each its own file",
+                            b.display()
+                        );
+                    }
+                }
             }
         }
         let kind = args.driver.kind;
@@ -176,6 +250,8 @@ impl RunPlan {
             let wogan_only = [
                 ("--mutation-share", args.mutation_share.is_some()),
                 ("--target-decay", args.target_decay.is_some()),
+                ("--save-generator", args.save_generator.is_some()),
+                ("--generator", args.generator.is_some()),
             ];
             if let Some((flag, _)) = wogan_only.iter().find(|(_, given)| *given) {
                 bail!("{flag} applies to --algorithm wogan only");
@@ -195,6 +271,48 @@ impl RunPlan {
             }),
             _ => None,
         };
+        let generator = match &args.generator {
+            Some(path) => Some(generator_file::read(path)?),
+            None => None,
+        };
+        let (curvature_points, road) = match &generator {
+            Some(saved) => {
+                let typed = (
+                    args.curvature_points,
+                    args.step_length,
+                    args.driver.map_size,
+                );
+                let file = (
+                    saved.curvature_points as u32,
+                    saved.road.step_m,
+                    saved.road.map_size_m,
+                );
+                let defaults = (
+                    DEFAULT_CURVATURE_POINTS,
+                    DEFAULT_STEP_LENGTH_M,
+                    DEFAULT_MAP_SIZE_M,
+                );
+                if typed != file && typed != defaults {
+                    bail!(
+                        "--generator makes roads of {} curvature points, {} m apart, on a {} m map; \
+                         leave --curvature-points, --step-length and --map-size out, or give those",
+                        file.0,
+                        file.1,
+                        file.2
+                    );
+                }
+                // WOGAN's settings are the ones the networks were trained with.
+                search.wogan = saved.model.config.clone();
+                (saved.curvature_points as u32, saved.road)
+            }
+            None => (
+                args.curvature_points,
+                CurvatureRoad {
+                    map_size_m: args.driver.map_size,
+                    step_m: args.step_length,
+                },
+            ),
+        };
         let budget = Budget {
             max_tests: args.max_tests.map(|n| n as usize),
             wall: args.budget,
@@ -211,19 +329,40 @@ impl RunPlan {
                 generation_budget_s: sbst.map(|b| b.generation.as_secs_f64()),
                 execution_budget_s: sbst.map(|b| b.execution_s),
                 jobs: args.jobs,
-                curvature_points: args.curvature_points,
-                road: CurvatureRoad {
-                    map_size_m: args.driver.map_size,
-                    step_m: args.step_length,
-                },
+                curvature_points,
+                road,
                 sim,
                 driver,
                 search,
+                generator: args
+                    .generator
+                    .as_ref()
+                    .zip(generator.as_ref())
+                    .map(|(path, saved)| GeneratorSource {
+                        file: path.display().to_string(),
+                        driver: saved.driver.clone(),
+                        seed: saved.seed,
+                        tests: saved.tests,
+                    }),
             },
             budget,
             out: args.out.clone(),
             quiet: args.quiet,
+            fail_on: args.fail_on,
+            junit: args.junit.clone(),
+            save_generator: args.save_generator.clone(),
+            generator,
         })
+    }
+
+    /// The search's name as the header gives it: `wogan`, `random`, or `wogan-generator` for a
+    /// run that chooses its tests with a saved generator.
+    pub fn algorithm_name(&self) -> &'static str {
+        if self.generator.is_some() {
+            "wogan-generator"
+        } else {
+            self.algorithm.name()
+        }
     }
 
     /// The driver under test.
@@ -236,19 +375,11 @@ impl RunPlan {
         Header {
             version: VERSION.to_string(),
             seed: Some(self.seed),
-            algorithm: self.algorithm.name().to_owned(),
+            algorithm: self.algorithm_name().to_owned(),
             driver: self.driver_kind(),
             fitness: self.fitness,
             config: &self.settings,
         }
-    }
-}
-
-/// Whether `a` and `b` name the same existing file.
-fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
-    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
     }
 }
 

@@ -14,7 +14,7 @@
 use crate::sbst::format::ExecutionRecord;
 use driver_training::{CloningConfig, CloningReport};
 use road_sim::road::Point;
-use road_sim::{DriverKind, FitnessKind, Outcome, Reason, Sample, SimResult};
+use road_sim::{DriverKind, FitnessKind, LaneExit, Outcome, Reason, Sample, SimResult};
 use serde::{Deserialize, Serialize};
 #[cfg(doc)]
 use wogan_core::Algorithm;
@@ -44,6 +44,14 @@ pub enum Record<C = serde_json::Value> {
     Verdict(VerdictRecord),
     /// What `train-driver` trained and measured.
     Driver(DriverRecord),
+    /// The first line of a regression suite file.
+    Suite(SuiteHeader),
+    /// One road of a regression suite.
+    Road(SuiteRoad),
+    /// `replay`'s answer for one saved road.
+    Replay(ReplayRecord),
+    /// A road `sample` drew from a saved generator.
+    Sample(SampleRecord),
     /// A record of a kind this version does not know (skipped by readers).
     #[serde(other, skip_serializing)]
     Unknown,
@@ -223,6 +231,100 @@ pub struct ErrorRecord {
     pub line: usize,
     /// What is wrong with it.
     pub error: String,
+}
+
+/// The first line of a regression suite (`wogan suite`): what the file is and its layout's version.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SuiteHeader {
+    /// Always [`SUITE_FORMAT`], so that another JSON-lines file is not taken for a suite.
+    pub format: String,
+    /// The layout's version, [`SUITE_VERSION`] when written by this `wogan`.
+    pub version: u32,
+}
+
+/// What a suite's first line says it is.
+pub const SUITE_FORMAT: &str = "wogan-suite";
+/// The suite layout this `wogan` writes; it reads this version and older ones.
+pub const SUITE_VERSION: u32 = 1;
+
+/// One road of a regression suite, with where it came from and how it was judged then.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SuiteRoad {
+    /// A name unique in the suite, `RUN-STEM#ID` (the run file's stem and the test's id).
+    pub name: String,
+    /// The road's points, metres.
+    pub road_points: Vec<Point>,
+    /// How the drive that put it in the suite ended.
+    pub recorded: RecordedDrive,
+    /// Where it came from.
+    pub origin: RoadOrigin,
+}
+
+/// How a saved road's drive ended when it was recorded.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RecordedDrive {
+    /// `PASS`, `FAIL` or `ERROR`.
+    pub outcome: Outcome,
+    /// Largest BOLP of that drive.
+    #[serde(deserialize_with = "road_sim::json_float::nan_for_null")]
+    pub max_bolp: f64,
+}
+
+/// The run a suite road was found in.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RoadOrigin {
+    /// The run file, as it was given to `wogan suite add`.
+    pub run: String,
+    /// The test's id in that run.
+    pub test: usize,
+    /// The run's seed.
+    pub seed: Option<u64>,
+    /// The driver the road failed.
+    pub driver: String,
+    /// The failure threshold it failed at.
+    pub oob_tolerance: Option<f64>,
+    /// The `wogan` version that made the run.
+    pub wogan: String,
+}
+
+/// `replay`'s answer for one saved road: how it drives now, beside how it drove when recorded.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ReplayRecord {
+    /// The file the road came from.
+    pub file: String,
+    /// The line of that file it begins on, from 1.
+    pub line: usize,
+    /// The road's name: the suite's, or the test id of a run or export.
+    pub name: String,
+    /// The outcome now: `PASS`, `FAIL`, `ERROR`, or `INVALID` when the road no longer validates.
+    pub outcome: String,
+    /// What it was when recorded, when the file says.
+    pub recorded_outcome: Option<String>,
+    /// Whether the outcome differs from the recorded one (`false` when none is recorded).
+    pub changed: bool,
+    /// Largest BOLP now (NaN, written `null`, when not driven).
+    pub max_bolp: f64,
+    /// Largest BOLP when recorded.
+    pub recorded_max_bolp: Option<f64>,
+    /// Why the drive did not pass, or why the road is invalid.
+    pub reason: Option<String>,
+    /// Where the car first left its lane now.
+    pub oob: Option<LaneExit>,
+}
+
+/// A road `sample` drew from a saved generator: WOGAN's choice, ranked by the analyzer.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SampleRecord {
+    /// Its place among the roads drawn, by predicted fitness, from 1.
+    pub rank: usize,
+    /// The analyzer's prediction; `null` for a random valid road drawn after too many invalid
+    /// candidates.
+    pub predicted_fitness: Option<f64>,
+    /// Curvature values, 1/m.
+    pub curvature: Vec<f64>,
+    /// The road points they make.
+    pub road_points: Vec<Point>,
 }
 
 /// `simulate`'s answer for one road.

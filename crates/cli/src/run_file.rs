@@ -68,6 +68,8 @@ pub struct RunHeader {
     pub driver: DriverKind,
     /// Every setting as the header gives it (for replaying a test).
     pub config: Value,
+    /// The `wogan` version that wrote the run.
+    pub version: String,
 }
 
 /// One run read from its file.
@@ -208,6 +210,7 @@ fn read_header(header: &Header) -> RunHeader {
             .unwrap_or(200.0),
         driver: header.driver,
         config: header.config.clone(),
+        version: header.version.clone(),
     }
 }
 

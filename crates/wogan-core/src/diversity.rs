@@ -19,16 +19,19 @@ pub struct Diversity {
     pub pairs: &'static str,
 }
 
+/// The Euclidean distance of two feature vectors (of one length), the paper's distance of roads.
+pub fn euclidean(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+        .sqrt()
+}
+
 /// Median pairwise Euclidean distance of `vectors` (all of one length): exact for up to
 /// [`EXACT_UP_TO`] vectors, else from [`SAMPLED_PAIRS`] distinct-index pairs drawn with `seed`.
 pub fn median_pairwise_distance(vectors: &[Vec<f64>], seed: u64) -> Diversity {
-    let distance = |a: &[f64], b: &[f64]| {
-        a.iter()
-            .zip(b)
-            .map(|(x, y)| (x - y) * (x - y))
-            .sum::<f64>()
-            .sqrt()
-    };
+    let distance = euclidean;
     let n = vectors.len();
     let (mut distances, pairs) = if n <= EXACT_UP_TO {
         let all = (0..n)

@@ -30,6 +30,10 @@ pub enum Error {
         /// Tests the diverging round learnt from.
         tests: usize,
     },
+    /// A model snapshot does not fit WOGAN's networks (a tensor missing, of another shape, or not
+    /// numbers), or there is nothing trained to snapshot yet.
+    #[error("model snapshot: {0}")]
+    Snapshot(String),
     /// A tensor could not be read back (should not happen on the CPU backend).
     #[error("tensor read-back failed: {0}")]
     Tensor(String),

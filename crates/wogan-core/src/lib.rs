@@ -112,9 +112,10 @@ pub use config::{
     SamplerConfig, WganConfig, WoganConfig,
 };
 pub use error::Error;
-pub use run::{run, Event, Phase, Summary};
+pub use run::{run, run_from_snapshot, run_with_snapshot, Event, Phase, Summary};
 pub use sut::{Execution, Sut};
 pub use test_sampler::Sampler;
 pub use wogan::{
-    biased_batch, bin_of, bin_weights, BatchDraws, Proposal, RngDraws, TrainStats, WoganModel,
+    biased_batch, bin_of, bin_weights, BatchDraws, ModelSnapshot, NamedTensor, Proposal, RngDraws,
+    TrainStats, WoganModel,
 };

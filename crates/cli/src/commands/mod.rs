@@ -3,11 +3,14 @@
 
 pub mod camera;
 pub mod export;
+pub mod replay;
 pub mod report;
 mod road_stream;
 pub mod run;
+pub mod sample;
 pub mod simulate;
 mod status;
+pub mod suite;
 pub mod train_driver;
 pub mod validate;
 

@@ -10,7 +10,7 @@
 //! input, answered under the number of its first line.
 
 use super::Status;
-use crate::json_lines::{numbered_lines, InputLine, JsonLinesWriter};
+use crate::json_lines::{json_values, InputLine, JsonLinesWriter};
 use crate::records::{ErrorRecord, Record};
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -21,10 +21,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError};
 use std::time::Duration;
 
-/// Most physical lines one JSON value may span before it is answered as an error.
-const MAX_LINES_PER_VALUE: usize = 10_000;
-/// Most bytes one JSON value may span across lines.
-const MAX_BYTES_PER_VALUE: usize = 16 << 20;
 /// How often the loop looks at the stop flag while it waits for input (not a result's timing).
 const STOP_POLL: Duration = Duration::from_millis(50);
 
@@ -117,9 +113,7 @@ fn read_ahead(
 ) -> Receiver<std::io::Result<InputLine>> {
     let (sender, receiver) = sync_channel(ahead);
     std::thread::spawn(move || {
-        let mut lines = numbered_lines(input);
-        while let Some(line) = lines.next() {
-            let line = line.and_then(|first| join_continued(first, &mut lines));
+        for line in json_values(input) {
             let failed = line.is_err();
             // The receiver is gone when the command ended (a stop): nothing left to do.
             if sender.send(line).is_err() || failed {
@@ -128,53 +122,6 @@ fn read_ahead(
         }
     });
     receiver
-}
-
-/// `first` and, when it is the opening bracket of a JSON value spread over lines, the lines that
-/// complete it (within [`MAX_LINES_PER_VALUE`] and [`MAX_BYTES_PER_VALUE`]).
-fn join_continued(
-    first: InputLine,
-    rest: &mut impl Iterator<Item = std::io::Result<InputLine>>,
-) -> std::io::Result<InputLine> {
-    let Ok(text) = &first.text else {
-        return Ok(first);
-    };
-    // Only a line that is nothing but an opening bracket starts a value spread over lines (as a
-    // pretty-printer writes it): a truncated one-line record must not swallow the lines after it.
-    if !matches!(text.trim(), "{" | "[") || !opens_unfinished_value(text) {
-        return Ok(first);
-    }
-    let mut joined = text.clone();
-    for _ in 1..MAX_LINES_PER_VALUE {
-        let Some(next) = rest.next() else { break };
-        match next?.text {
-            Ok(more) => {
-                joined.push('\n');
-                joined.push_str(&more);
-            }
-            Err(error) => {
-                return Ok(InputLine {
-                    number: first.number,
-                    text: Err(error),
-                })
-            }
-        }
-        if joined.len() > MAX_BYTES_PER_VALUE || !opens_unfinished_value(&joined) {
-            break;
-        }
-    }
-    Ok(InputLine {
-        number: first.number,
-        text: Ok(joined),
-    })
-}
-
-/// Whether `text` is the start of a JSON value that more lines could complete.
-fn opens_unfinished_value(text: &str) -> bool {
-    matches!(
-        serde_json::from_str::<serde_json::Value>(text),
-        Err(error) if error.is_eof()
-    )
 }
 
 /// A thread pool of `jobs` threads, or `None` for one job (answers on this thread).
@@ -214,41 +161,5 @@ impl Progress {
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn lines(text: &str) -> Vec<(usize, String)> {
-        let input: Box<dyn BufRead + Send> = Box::new(std::io::Cursor::new(text.to_owned()));
-        let receiver = read_ahead(input, 4);
-        receiver
-            .iter()
-            .map(|line| {
-                let line = line.unwrap();
-                (line.number, line.text.unwrap())
-            })
-            .collect()
-    }
-
-    #[test]
-    fn a_value_spread_over_lines_is_one_input() {
-        let text = "{\n  \"road_points\": [\n    [1, 2],\n    [3, 4]\n  ]\n}\n[[5, 6], [7, 8]]\n";
-        let read = lines(text);
-        assert_eq!(read.len(), 2, "{read:?}");
-        assert_eq!(read[0].0, 1);
-        assert!(serde_json::from_str::<serde_json::Value>(&read[0].1).is_ok());
-        assert_eq!(read[1], (7, "[[5, 6], [7, 8]]".to_owned()));
-        // A line that is not JSON at all is not joined with the next.
-        assert_eq!(lines("nope\n[[1, 2]]\n").len(), 2);
-        // An unfinished value at the end of the input is given as it is.
-        assert_eq!(lines("{\n\"road_points\": [\n").len(), 1);
-        // A truncated one-line record does not take the next line with it.
-        assert_eq!(
-            lines("{\"road_points\": [[1, 2]\n[[5, 6], [7, 8]]\n").len(),
-            2
-        );
     }
 }

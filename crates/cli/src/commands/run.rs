@@ -2,9 +2,11 @@
 //! executed test, per training round, and a final summary.
 
 use super::Status;
+use crate::generator_file::{self, GeneratorPayload};
 use crate::interrupt::stop_flag;
 use crate::json_lines::JsonLinesWriter;
-use crate::plan::{RunArgs, RunPlan};
+use crate::junit::{self, JunitCase};
+use crate::plan::{FailOn, RunArgs, RunPlan};
 use crate::records::{Record, SummaryRecord, TestRecord, TrainRecord};
 use crate::road_sut::RoadSut;
 use anyhow::Result;
@@ -39,79 +41,91 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
     };
     let progress = Progress::new(&plan.budget, plan.quiet);
     let mut failing_profiles: Vec<Vec<f64>> = Vec::new();
+    // What the JUnit report needs of each test, kept only when one is asked for.
+    let mut driven: Vec<TestRecord> = Vec::new();
     let mut write_error: Option<anyhow::Error> = None;
-    let outcome = wogan_core::run(
-        &sut,
-        &settings.search,
-        plan.budget,
-        plan.seed,
-        stop,
-        &mut |event| {
-            let record = match event {
-                Event::Test {
+    let mut on_event = |event| {
+        let record = match event {
+            Event::Test {
+                id,
+                phase,
+                fitness,
+                predicted_fitness,
+                invalid_candidates,
+                ranked_candidates,
+                generation_ms,
+                sbst_generation_ms,
+                beyond_budget,
+                output,
+                ..
+            } => {
+                let test = TestRecord {
                     id,
                     phase,
                     fitness,
                     predicted_fitness,
                     invalid_candidates,
-                    ranked_candidates,
+                    ranked_candidates: Some(ranked_candidates),
                     generation_ms,
-                    sbst_generation_ms,
+                    sbst_generation_ms: Some(sbst_generation_ms),
                     beyond_budget,
-                    output,
-                    ..
-                } => {
-                    let test = TestRecord {
-                        id,
-                        phase,
-                        fitness,
-                        predicted_fitness,
-                        invalid_candidates,
-                        ranked_candidates: Some(ranked_candidates),
-                        generation_ms,
-                        sbst_generation_ms: Some(sbst_generation_ms),
-                        beyond_budget,
-                        execution: output,
-                    };
-                    if test.failed() && !beyond_budget {
-                        failing_profiles.push(heading_profile(&test.execution.interpolated));
-                    }
-                    progress.test_done(failing_profiles.len());
-                    Record::Test(test)
+                    execution: output,
+                };
+                if test.failed() && !beyond_budget {
+                    failing_profiles.push(heading_profile(&test.execution.interpolated));
                 }
-                Event::Train {
-                    analyzer_loss,
-                    critic_loss,
-                    gradient_penalty,
-                    generator_loss,
-                    wasserstein_estimate,
-                    train_ms,
-                    tests,
-                } => Record::Train(TrainRecord {
-                    analyzer_loss,
-                    critic_loss,
-                    gradient_penalty: Some(gradient_penalty),
-                    generator_loss,
-                    wasserstein_estimate,
-                    train_ms,
-                    tests,
-                }),
-            };
-            if let Err(error) = out.write(&record) {
-                // Output is gone (a closed pipe, a full disk): stop searching, keep the first error.
-                stop.store(true, Ordering::SeqCst);
-                write_error.get_or_insert(error);
+                progress.test_done(failing_profiles.len());
+                if plan.junit.is_some() {
+                    driven.push(test.clone());
+                }
+                Record::Test(test)
             }
-        },
-    );
+            Event::Train {
+                analyzer_loss,
+                critic_loss,
+                gradient_penalty,
+                generator_loss,
+                wasserstein_estimate,
+                train_ms,
+                tests,
+            } => Record::Train(TrainRecord {
+                analyzer_loss,
+                critic_loss,
+                gradient_penalty: Some(gradient_penalty),
+                generator_loss,
+                wasserstein_estimate,
+                train_ms,
+                tests,
+            }),
+        };
+        if let Err(error) = out.write(&record) {
+            // Output is gone (a closed pipe, a full disk): stop searching, keep the first error.
+            stop.store(true, Ordering::SeqCst);
+            write_error.get_or_insert(error);
+        }
+    };
+    let (search, budget, seed) = (&settings.search, plan.budget, plan.seed);
+    let outcome = match &plan.generator {
+        Some(saved) => wogan_core::run_from_snapshot(
+            &sut,
+            &saved.model,
+            search,
+            budget,
+            seed,
+            stop,
+            &mut on_event,
+        )
+        .map(|summary| (summary, None)),
+        None => wogan_core::run_with_snapshot(&sut, search, budget, seed, stop, &mut on_event),
+    };
     progress.finish();
     if let Some(error) = write_error {
         return Err(error);
     }
     let diversity = median_pairwise_distance(&failing_profiles, plan.seed);
-    let (summary, error) = match outcome {
-        Ok(summary) => (summary, None),
-        Err(error) => (Summary::default(), Some(error.to_string())),
+    let (summary, snapshot, error) = match outcome {
+        Ok((summary, snapshot)) => (summary, snapshot, None),
+        Err(error) => (Summary::default(), None, Some(error.to_string())),
     };
     out.write(&Record::Summary(SummaryRecord {
         executed: summary.executed,
@@ -129,14 +143,79 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
         interrupted: summary.stopped_by_signal,
         error: error.clone(),
     }))?;
+    if let Some(path) = &plan.junit {
+        write_junit(path, plan, &driven)?;
+    }
+    if let Some(path) = &plan.save_generator {
+        let Some(model) = snapshot else {
+            eprintln!(
+                "wogan: --save-generator {}: no generator was trained (the run ended before its \
+                 first training round)",
+                path.display()
+            );
+            return Ok(Status::Failed);
+        };
+        generator_file::write(
+            path,
+            GeneratorPayload {
+                wogan: generator_file::wogan_version(),
+                driver: plan.driver_kind().name().to_owned(),
+                oob_tolerance: settings.sim.oob_tolerance,
+                seed: plan.seed,
+                tests: summary.executed,
+                curvature_points: settings.curvature_points as usize,
+                road: settings.road,
+                sampler: settings.search.sampler.clone(),
+                model,
+            },
+        )?;
+        eprintln!("wogan: saved the generator to {}", path.display());
+    }
+    let found_failure = !failing_profiles.is_empty();
     match (error, summary.stopped_by_signal) {
         (Some(error), _) => {
             eprintln!("wogan: the search failed: {error}");
             Ok(Status::Failed)
         }
         (None, true) => Ok(Status::Interrupted),
+        (None, false) if plan.fail_on == FailOn::Failure && found_failure => {
+            eprintln!(
+                "wogan: the run found {} failing road(s) (--fail-on failure)",
+                failing_profiles.len()
+            );
+            Ok(Status::FailuresFound)
+        }
         (None, false) => Ok(Status::AllRead),
     }
+}
+
+/// Writes the run's JUnit report: one case per executed test (those beyond an SBST budget, which
+/// the competition does not keep, are left out).
+fn write_junit(path: &std::path::Path, plan: &RunPlan, tests: &[TestRecord]) -> Result<()> {
+    let source = plan
+        .out
+        .as_ref()
+        .map_or_else(|| "wogan run".to_owned(), |p| p.display().to_string());
+    let cases: Vec<JunitCase> = tests
+        .iter()
+        .filter(|t| !t.beyond_budget)
+        .map(|t| JunitCase {
+            name: format!("test {} ({})", t.id, t.phase.name()),
+            source: source.clone(),
+            road_points: &t.execution.road_points,
+            result: Some(&t.execution.result),
+            skip_reason: None,
+            note: None,
+        })
+        .collect();
+    let properties = [
+        ("seed", plan.seed.to_string()),
+        ("driver", plan.driver_kind().name().to_owned()),
+        ("algorithm", plan.algorithm_name().to_owned()),
+        ("fitness", plan.fitness.name().to_owned()),
+        ("wogan", crate::records::VERSION.to_owned()),
+    ];
+    junit::write_report(path, "wogan run", &properties, &cases)
 }
 
 /// The progress bar on stderr, shown only on a terminal.

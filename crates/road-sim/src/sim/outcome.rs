@@ -15,6 +15,17 @@ pub enum Outcome {
     Error,
 }
 
+impl Outcome {
+    /// The name as records spell it (`PASS`, `FAIL`, `ERROR`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Outcome::Pass => "PASS",
+            Outcome::Fail => "FAIL",
+            Outcome::Error => "ERROR",
+        }
+    }
+}
+
 /// Why a drive stopped before reaching the end of the road.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -33,6 +44,21 @@ pub enum StopReason {
     SimTimeLimit,
     /// The caller's stop flag cut the drive short.
     Interrupted,
+}
+
+impl StopReason {
+    /// The name as records spell it (`out_of_lane`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            StopReason::OutOfLane => "out_of_lane",
+            StopReason::NotMoving => "not_moving",
+            StopReason::Timeout => "timeout",
+            StopReason::NonFinitePhysicsState => "non_finite_physics_state",
+            StopReason::NonFiniteCommand => "non_finite_command",
+            StopReason::SimTimeLimit => "sim_time_limit",
+            StopReason::Interrupted => "interrupted",
+        }
+    }
 }
 
 /// One lane-monitor sample of the drive.
@@ -82,6 +108,16 @@ pub enum LaneSide {
     Left,
     /// The lane's right edge, the road's edge.
     Right,
+}
+
+impl LaneSide {
+    /// The name as records spell it (`left`, `right`).
+    pub fn name(self) -> &'static str {
+        match self {
+            LaneSide::Left => "left",
+            LaneSide::Right => "right",
+        }
+    }
 }
 
 /// Where the car first left its lane: the first sample whose BOLP exceeded the tolerance (the
@@ -157,6 +193,34 @@ pub struct SimResult {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn names_are_as_records_spell_them() {
+        let spelled = |v: serde_json::Value| v.as_str().unwrap_or_default().to_owned();
+        for outcome in [Outcome::Pass, Outcome::Fail, Outcome::Error] {
+            assert_eq!(
+                spelled(serde_json::to_value(outcome).unwrap()),
+                outcome.name()
+            );
+        }
+        for reason in [
+            StopReason::OutOfLane,
+            StopReason::NotMoving,
+            StopReason::Timeout,
+            StopReason::NonFinitePhysicsState,
+            StopReason::NonFiniteCommand,
+            StopReason::SimTimeLimit,
+            StopReason::Interrupted,
+        ] {
+            assert_eq!(
+                spelled(serde_json::to_value(reason).unwrap()),
+                reason.name()
+            );
+        }
+        for side in [LaneSide::Left, LaneSide::Right] {
+            assert_eq!(spelled(serde_json::to_value(side).unwrap()), side.name());
+        }
+    }
 
     #[test]
     fn outcome_serialises_upper_case() {

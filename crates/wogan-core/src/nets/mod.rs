@@ -9,7 +9,6 @@ mod layers;
 mod wgan;
 
 pub(crate) use analyzer::{logit_target, Analyzer, AnalyzerTrainer};
-#[cfg(test)]
 pub(crate) use batch_norm::BatchNorm;
 #[cfg(test)]
 pub(crate) use critic::Critic;

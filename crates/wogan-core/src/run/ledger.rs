@@ -20,7 +20,28 @@ pub(super) struct RunLedger<'a> {
     pub generation_clock: Instant,
 }
 
-impl RunLedger<'_> {
+impl<'a> RunLedger<'a> {
+    /// A run starting now under `budget`, stopped early by `stop`.
+    pub fn start(budget: Budget, stop: &'a AtomicBool) -> Self {
+        let start = Instant::now();
+        Self {
+            budget,
+            stop,
+            start,
+            summary: Summary::default(),
+            used: SbstUsage::default(),
+            generation_clock: start,
+        }
+    }
+
+    /// The run's totals, its clocks read now.
+    pub fn finish(mut self) -> Summary {
+        self.summary.wall_s = self.elapsed().as_secs_f64();
+        self.summary.sbst_generation_s = self.used.generation.as_secs_f64();
+        self.summary.execution_time_s = self.used.execution_s;
+        self.summary
+    }
+
     pub fn elapsed(&self) -> Duration {
         self.start.elapsed()
     }

@@ -18,21 +18,21 @@ mod tests;
 mod wogan_phase;
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
 
-use crate::budget::{Budget, SbstUsage};
+use crate::budget::Budget;
 use crate::config::{Algorithm, RunConfig};
 use crate::error::Error;
 use crate::sut::Sut;
 use crate::test_sampler::Sampler;
+use crate::wogan::{ModelSnapshot, WoganModel};
 
 pub use events::{Event, Phase, Summary};
 use ledger::RunLedger;
 use random_phase::random_phase;
-use wogan_phase::wogan_phase;
+use wogan_phase::{wogan_phase, Training};
 
 /// Runs one search.
 ///
@@ -49,6 +49,79 @@ pub fn run<S: Sut + ?Sized>(
     stop: &AtomicBool,
     on_event: &mut dyn FnMut(Event<S::Output>),
 ) -> Result<Summary, Error> {
+    run_inner(sut, config, budget, seed, stop, on_event, false).map(|(summary, _)| summary)
+}
+
+/// As [`run`], and also the snapshot of WOGAN's proposing networks as the run ends, for proposing
+/// more tests later without training (`None` for random search, or a run that ended before its
+/// first training round).
+pub fn run_with_snapshot<S: Sut + ?Sized>(
+    sut: &S,
+    config: &RunConfig,
+    budget: Budget,
+    seed: u64,
+    stop: &AtomicBool,
+    on_event: &mut dyn FnMut(Event<S::Output>),
+) -> Result<(Summary, Option<ModelSnapshot>), Error> {
+    run_inner(sut, config, budget, seed, stop, on_event, true)
+}
+
+/// Runs a search that chooses every test with a restored WOGAN (its proposing networks, saved
+/// by [`run_with_snapshot`]): no random phase and no training, each test chosen as the trained
+/// WOGAN chooses one. Its test events say `phase: wogan`; there are no train events.
+pub fn run_from_snapshot<S: Sut + ?Sized>(
+    sut: &S,
+    snapshot: &ModelSnapshot,
+    config: &RunConfig,
+    budget: Budget,
+    seed: u64,
+    stop: &AtomicBool,
+    on_event: &mut dyn FnMut(Event<S::Output>),
+) -> Result<Summary, Error> {
+    config.validate()?;
+    if sut.dim() != snapshot.dim {
+        return Err(Error::Config(format!(
+            "the snapshot proposes tests of {} values, the SUT takes {}",
+            snapshot.dim,
+            sut.dim()
+        )));
+    }
+    let model = WoganModel::from_snapshot(snapshot)?;
+    let mut rng = ChaCha20Rng::seed_from_u64(seed);
+    let mut r = RunLedger::start(budget.effective(), stop);
+    let go_on = searching(&r);
+    let sampler = Sampler::new(snapshot.dim, config.sampler.clone()).interruptible(&go_on);
+    // The snapshot's own settings propose (its acceptance decay, candidate batch, ...).
+    wogan_phase(
+        sut,
+        model,
+        Training::Frozen,
+        &sampler,
+        &mut rng,
+        &mut r,
+        on_event,
+    )?;
+    Ok(r.finish())
+}
+
+/// Whether a long search for a valid test may go on: no stop asked for and wall-clock time left.
+/// (Not the generation budget: the competition lets a generator finish the test in hand, then
+/// executes and discards it; the sampler's attempt limit bounds the search.)
+fn searching<'a>(r: &RunLedger<'a>) -> impl Fn() -> bool + 'a {
+    let (stop, wall, start) = (r.stop, r.budget.wall, r.start);
+    move || !stop.load(Ordering::Relaxed) && wall.is_none_or(|w| start.elapsed() < w)
+}
+
+/// The run, keeping the model's snapshot when `keep_snapshot`.
+fn run_inner<S: Sut + ?Sized>(
+    sut: &S,
+    config: &RunConfig,
+    budget: Budget,
+    seed: u64,
+    stop: &AtomicBool,
+    on_event: &mut dyn FnMut(Event<S::Output>),
+    keep_snapshot: bool,
+) -> Result<(Summary, Option<ModelSnapshot>), Error> {
     config.validate()?;
     let dim = sut.dim();
     if dim == 0 {
@@ -68,21 +141,9 @@ pub fn run<S: Sut + ?Sized>(
         None
     };
     let mut rng = ChaCha20Rng::seed_from_u64(seed);
-    let budget = budget.effective();
-    let start = Instant::now();
-    // A long search for a valid test looks at the stop flag and the clock now and then. (Not at
-    // the generation budget: the competition lets a generator finish the test in hand, then
-    // executes and discards it; the sampler's attempt limit bounds the search.)
-    let go_on = || !stop.load(Ordering::Relaxed) && budget.wall.is_none_or(|w| start.elapsed() < w);
+    let mut r = RunLedger::start(budget.effective(), stop);
+    let go_on = searching(&r);
     let sampler = Sampler::new(dim, config.sampler.clone()).interruptible(&go_on);
-    let mut r = RunLedger {
-        budget,
-        stop,
-        start,
-        summary: Summary::default(),
-        used: SbstUsage::default(),
-        generation_clock: start,
-    };
 
     let executed_tests = random_phase(
         sut,
@@ -93,19 +154,25 @@ pub fn run<S: Sut + ?Sized>(
         &mut r,
         on_event,
     )?;
+    let mut snapshot = None;
     if config.algorithm == Algorithm::Wogan && !r.should_stop() {
-        wogan_phase(
+        let mut model = WoganModel::new(dim, &config.wogan, &mut rng);
+        for (t, f) in &executed_tests {
+            model.add(t, *f);
+        }
+        drop(executed_tests);
+        let model = wogan_phase(
             sut,
-            config,
-            executed_tests,
+            model,
+            Training::Retrain,
             &sampler,
             &mut rng,
             &mut r,
             on_event,
         )?;
+        if keep_snapshot {
+            snapshot = model.snapshot().ok();
+        }
     }
-    r.summary.wall_s = r.elapsed().as_secs_f64();
-    r.summary.sbst_generation_s = r.used.generation.as_secs_f64();
-    r.summary.execution_time_s = r.used.execution_s;
-    Ok(r.summary)
+    Ok((r.finish(), snapshot))
 }

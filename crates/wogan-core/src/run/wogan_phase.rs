@@ -1,11 +1,11 @@
 //! The WOGAN phase: after the random share, retrain every `train_every` tests and execute the
-//! test the networks propose, until the run ends.
+//! test the networks propose, until the run ends; or, from a restored snapshot, propose with
+//! networks that do not train.
 
 use std::time::Instant;
 
 use rand_chacha::ChaCha20Rng;
 
-use crate::config::RunConfig;
 use crate::error::Error;
 use crate::sut::{clamp_fitness, Sut};
 use crate::test_sampler::Sampler;
@@ -14,25 +14,31 @@ use crate::wogan::WoganModel;
 use super::events::{test_event, Choice, Event, Phase};
 use super::ledger::RunLedger;
 
-/// Trains on `executed_tests` (the random phase's) and runs WOGAN's loop until the run ends.
+/// Whether the WOGAN phase trains its model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Training {
+    /// Retrain every `train_every` tests, first before the first proposal (the paper's WOGAN).
+    Retrain,
+    /// Never: propose with the model as given (a restored snapshot's networks).
+    Frozen,
+}
+
+/// Runs WOGAN's loop with `model` (holding the random phase's tests, or a restored snapshot) and
+/// its settings until the run ends; returns the model as the run leaves it.
 pub(super) fn wogan_phase<S: Sut + ?Sized>(
     sut: &S,
-    config: &RunConfig,
-    executed_tests: Vec<(Vec<f32>, f64)>,
+    mut model: WoganModel,
+    training: Training,
     sampler: &Sampler,
     rng: &mut ChaCha20Rng,
     r: &mut RunLedger,
     on_event: &mut dyn FnMut(Event<S::Output>),
-) -> Result<(), Error> {
-    let w = &config.wogan;
-    let mut model = WoganModel::new(sut.dim(), w, rng);
-    for (t, f) in &executed_tests {
-        model.add(t, *f);
-    }
-    drop(executed_tests);
+) -> Result<WoganModel, Error> {
+    // The settings the model was built (or trained) with.
+    let w = &model.config().clone();
     let mut since_train = usize::MAX;
     while !r.should_stop() {
-        if since_train >= w.train_every {
+        if training == Training::Retrain && since_train >= w.train_every {
             let alpha = r.budget.alpha(
                 w.init_fraction,
                 w.alpha_max,
@@ -121,5 +127,5 @@ pub(super) fn wogan_phase<S: Sut + ?Sized>(
         }
         r.restart_generation_clock();
     }
-    Ok(())
+    Ok(model)
 }

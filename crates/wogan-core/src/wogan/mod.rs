@@ -1,12 +1,15 @@
 //! WOGAN's test choice: the learning state ([`WoganModel`]), the fitness bins that bias its GAN
-//! batches, the acceptance rule that picks a candidate, and the optional mutants.
+//! batches, the acceptance rule that picks a candidate, the optional mutants, and the snapshot
+//! of its trained networks that proposes later without training.
 
 mod acceptance;
 mod bins;
 mod model;
 mod mutation;
+mod snapshot;
 
 #[cfg(test)]
 pub(crate) use acceptance::Acceptance;
 pub use bins::{biased_batch, bin_of, bin_weights, BatchDraws, RngDraws};
 pub use model::{Proposal, TrainStats, WoganModel};
+pub use snapshot::{ModelSnapshot, NamedTensor};

@@ -89,6 +89,26 @@ impl WoganModel {
         }
     }
 
+    /// Test vector dimension.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// The settings the model was built with.
+    pub fn config(&self) -> &WoganConfig {
+        &self.cfg
+    }
+
+    /// The generator and analyzer candidates are drawn and ranked with, once trained.
+    pub(super) fn inference(&self) -> Option<&(Generator, Analyzer)> {
+        self.inference.as_ref()
+    }
+
+    /// Proposes with these networks from now on (a restored snapshot's).
+    pub(super) fn set_inference(&mut self, generator: Generator, analyzer: Analyzer) {
+        self.inference = Some((generator, analyzer));
+    }
+
     /// Number of tests learnt from.
     pub fn len(&self) -> usize {
         self.targets.len()

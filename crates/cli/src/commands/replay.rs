@@ -1,0 +1,245 @@
+//! `wogan replay`: the regression suite's command. It drives saved roads again (from runs, suites,
+//! road files and the competition's exports) against the driver given now and writes, per road,
+//! its outcome now beside the one recorded, in input order as each is known; optionally a JUnit
+//! report. The exit status is the CI verdict: 1 when a road fails now (`--fail-on any`) or when
+//! an outcome changed (`--fail-on changed`), 2 when some input could not be used (the good roads
+//! are still driven), 130 after Ctrl-C with what was driven written.
+
+use super::road_stream::thread_pool;
+use super::Status;
+use crate::config_file::ConfigFile;
+use crate::driver_options::DriverOptions;
+use crate::interrupt::stop_flag;
+use crate::json_lines::JsonLinesWriter;
+use crate::junit::{self, JunitCase};
+use crate::output_file::same_file;
+use crate::records::{Record, ReplayRecord};
+use crate::saved_roads::{read_saved_roads, SavedRoad};
+use anyhow::{bail, Result};
+use clap::Args;
+use rayon::prelude::*;
+use road_sim::{simulate, DriverConfig, SimConfig, SimResult, StopReason, Validator};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Options of `wogan replay`.
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// Files of saved roads: `wogan run` files, suites (`wogan suite`), road files in the forms
+    /// `validate` reads, the competition's test.NNNN.json, or a folder of those.
+    #[arg(value_name = "FILE", required = true)]
+    pub files: Vec<PathBuf>,
+    #[command(flatten)]
+    pub driver: DriverOptions,
+    /// JSON file overriding the simulation's and the driver's defaults (`{"sim": {...},
+    /// "driver": {...}}`, as `wogan simulate --config` reads it).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Roads driven at once (output keeps the input order; results do not depend on it).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
+    pub jobs: u32,
+    /// Also write a JUnit XML report to FILE: one test case per road.
+    #[arg(long, value_name = "FILE")]
+    pub junit: Option<PathBuf>,
+    /// What makes the exit status 1: a road that fails now (any), or a road whose outcome now
+    /// differs from the recorded one, fixed or newly failing (changed).
+    #[arg(long, value_enum, default_value_t = ReplayFailOn::Any)]
+    pub fail_on: ReplayFailOn,
+}
+
+/// `--fail-on` values of `wogan replay`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ReplayFailOn {
+    /// Exit 1 when any road fails (or errs) now.
+    Any,
+    /// Exit 1 when any road's outcome differs from the one recorded.
+    Changed,
+}
+
+/// How one saved road drives now.
+struct Replayed {
+    record: ReplayRecord,
+    result: Option<SimResult>,
+}
+
+/// Runs `wogan replay`.
+pub fn run(args: &ReplayArgs) -> Result<Status> {
+    if let Some(junit) = &args.junit {
+        if let Some(input) = args.files.iter().find(|f| same_file(junit, f)) {
+            bail!(
+                "--junit {} is an input of the replay ({}); write it elsewhere",
+                junit.display(),
+                input.display()
+            );
+        }
+    }
+    let stop = stop_flag()?;
+    let file = ConfigFile::read_for(args.config.as_deref(), args.driver.kind)?;
+    if file.search.is_some() {
+        bail!("config file: \"search\" is for `wogan run`; `wogan replay` reads \"sim\" and \"driver\"");
+    }
+    let (sim, driver) = args.driver.resolve(&file)?;
+    let (roads, mut problems) = read_saved_roads(&args.files, args.driver.map_size);
+    for problem in &problems {
+        eprintln!("wogan replay: {problem}");
+    }
+    let validator = Validator::new(args.driver.map_size);
+    let pool = thread_pool(args.jobs as usize)?;
+    let mut out = JsonLinesWriter::create(None)?;
+    let mut replayed: Vec<(&SavedRoad, Replayed)> = Vec::with_capacity(roads.len());
+    let chunk = (args.jobs as usize).max(1);
+    for batch in roads.chunks(chunk) {
+        if stop.load(Ordering::SeqCst) {
+            break;
+        }
+        let drive = |road: &SavedRoad| replay_one(road, &validator, &driver, &sim, &stop);
+        let answers: Vec<Option<Replayed>> = match &pool {
+            Some(pool) => pool.install(|| batch.par_iter().map(drive).collect()),
+            None => batch.iter().map(drive).collect(),
+        };
+        for (road, answer) in batch.iter().zip(answers) {
+            // Cut short by Ctrl-C: not reported, as the drive did not end.
+            let Some(answer) = answer else { continue };
+            out.write(&Record::Replay(answer.record.clone()))?;
+            if answer.record.outcome == "INVALID" {
+                let problem = format!(
+                    "{}:{}: {}: {}",
+                    road.file.display(),
+                    road.line,
+                    road.name,
+                    answer.record.reason.as_deref().unwrap_or("invalid")
+                );
+                eprintln!("wogan replay: {problem}");
+                problems.push(problem);
+            }
+            replayed.push((road, answer));
+        }
+    }
+    let interrupted = stop.load(Ordering::SeqCst);
+    if let Some(path) = &args.junit {
+        write_junit(path, args, &replayed)?;
+    }
+    let failing = replayed
+        .iter()
+        .filter(|(_, r)| matches!(r.record.outcome.as_str(), "FAIL" | "ERROR"))
+        .count();
+    let changed = replayed.iter().filter(|(_, r)| r.record.changed).count();
+    eprintln!(
+        "wogan replay: {} road(s) driven, {failing} failing now, {changed} changed from the \
+         recorded outcome{}",
+        replayed.len(),
+        if problems.is_empty() {
+            String::new()
+        } else {
+            format!(", {} input problem(s)", problems.len())
+        }
+    );
+    let verdict = match args.fail_on {
+        ReplayFailOn::Any => failing > 0,
+        ReplayFailOn::Changed => changed > 0,
+    };
+    Ok(if interrupted {
+        Status::Interrupted
+    } else if !problems.is_empty() {
+        Status::BadInput
+    } else if verdict {
+        Status::FailuresFound
+    } else {
+        Status::AllRead
+    })
+}
+
+/// Drives one saved road; `None` when Ctrl-C cut the drive short.
+fn replay_one(
+    road: &SavedRoad,
+    validator: &Validator,
+    driver: &DriverConfig,
+    sim: &SimConfig,
+    stop: &AtomicBool,
+) -> Option<Replayed> {
+    let verdict = validator.validate(&road.road_points);
+    let (outcome, max_bolp, reason, oob, result) = match (verdict.reason, &verdict.road) {
+        (None, Some(valid)) => {
+            let result = simulate(valid, driver.build().as_mut(), sim, false, Some(stop));
+            if result.reason == Some(StopReason::Interrupted) {
+                return None;
+            }
+            (
+                result.outcome.name().to_owned(),
+                result.max_bolp,
+                result.reason.map(|r| r.name().to_owned()),
+                result.oob,
+                Some(result),
+            )
+        }
+        (reason, _) => (
+            "INVALID".to_owned(),
+            f64::NAN,
+            Some(format!(
+                "no longer a valid road: {}",
+                reason.map_or("malformed", |r| r.message())
+            )),
+            None,
+            None,
+        ),
+    };
+    let changed = road
+        .recorded_outcome
+        .as_ref()
+        .is_some_and(|recorded| *recorded != outcome);
+    Some(Replayed {
+        record: ReplayRecord {
+            file: road.file.display().to_string(),
+            line: road.line,
+            name: road.name.clone(),
+            outcome,
+            recorded_outcome: road.recorded_outcome.clone(),
+            changed,
+            max_bolp,
+            recorded_max_bolp: road.recorded_max_bolp,
+            reason,
+            oob,
+        },
+        result,
+    })
+}
+
+/// Writes the replay's JUnit report: one case per road, the recorded outcome in its message.
+fn write_junit(
+    path: &std::path::Path,
+    args: &ReplayArgs,
+    replayed: &[(&SavedRoad, Replayed)],
+) -> Result<()> {
+    let cases: Vec<JunitCase> = replayed
+        .iter()
+        .map(|(road, answer)| JunitCase {
+            name: road.name.clone(),
+            source: road.file.display().to_string(),
+            road_points: &road.road_points,
+            result: answer.result.as_ref(),
+            skip_reason: answer.result.is_none().then(|| {
+                answer
+                    .record
+                    .reason
+                    .clone()
+                    .unwrap_or_else(|| "not driven".to_owned())
+            }),
+            note: road.recorded_outcome.as_ref().map(|recorded| {
+                let bolp = road
+                    .recorded_max_bolp
+                    .map_or_else(String::new, |b| format!(", max BOLP {b:.3}"));
+                let change = if answer.record.changed {
+                    "changed; "
+                } else {
+                    ""
+                };
+                format!("{change}recorded {recorded}{bolp}")
+            }),
+        })
+        .collect();
+    let properties = [
+        ("driver", args.driver.kind.name().to_owned()),
+        ("wogan", crate::records::VERSION.to_owned()),
+    ];
+    junit::write_report(path, "wogan replay", &properties, &cases)
+}
