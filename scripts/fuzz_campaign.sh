@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# A fuzz campaign against the wogan binary: the harness of tests/fuzz.rs (whose small sample runs in
+# A fuzz campaign against the wogan binary: the harness of tests/fuzz/ (whose small sample runs in
 # `cargo test`) with as many cases as asked. It feeds mutated input lines, files and option values
-# to validate, simulate, run, report, export and camera, then prints per command the inputs tried,
+# to validate, simulate, run, report, export, camera, replay, suite and sample, then prints per command the inputs tried,
 # panics, aborts, hangs and output lines that are not JSON, and every failure class with the seed,
 # command line, input and stderr that reproduce it. Exits non-zero when any input failed.
 #

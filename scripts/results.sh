@@ -764,6 +764,10 @@ def splice(old_text, new_lines, stamp):
     while head and head[-1] == "":
         head.pop()
     head += [stamp, ""]
+    for block in merged:
+        while block and block[-1] == "":
+            block.pop()
+        block.append("")
     return "\n".join(head + [line for block in merged for line in block]).rstrip("\n") + "\n"
 
 

@@ -53,6 +53,23 @@ impl DriverOptions {
         Ok((sim, driver))
     }
 
+    /// The simulation and driver settings of a command that drives roads (`simulate`, `replay`):
+    /// these options laid over the `sim` and `driver` sections of the `--config` file at
+    /// `config`, which may not hold a `search` section.
+    pub fn resolve_for_driving(
+        &self,
+        config: Option<&Path>,
+        command: &str,
+    ) -> Result<(SimConfig, DriverConfig)> {
+        let file = ConfigFile::read_for(config, self.kind)?;
+        if file.search.is_some() {
+            bail!(
+                "config file: \"search\" is for `wogan run`; `wogan {command}` reads \"sim\" and \"driver\""
+            );
+        }
+        self.resolve(&file)
+    }
+
     /// `base` with the options given on the command line applied.
     pub fn apply_to(&self, base: SimConfig) -> SimConfig {
         SimConfig {

@@ -77,7 +77,10 @@ fn test_case(case: &JunitCase) -> TestCase {
             (status, result.execution_ms / 1e3)
         }
         None => {
-            let reason = case.skip_reason.clone().unwrap_or_else(|| "not driven".to_owned());
+            let reason = case
+                .skip_reason
+                .clone()
+                .unwrap_or_else(|| "not driven".to_owned());
             let mut status = TestCaseStatus::skipped();
             status
                 .set_message(with_note(reason))

@@ -7,7 +7,6 @@
 
 use super::road_stream::thread_pool;
 use super::Status;
-use crate::config_file::ConfigFile;
 use crate::driver_options::DriverOptions;
 use crate::interrupt::stop_flag;
 use crate::json_lines::JsonLinesWriter;
@@ -74,11 +73,9 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
         }
     }
     let stop = stop_flag()?;
-    let file = ConfigFile::read_for(args.config.as_deref(), args.driver.kind)?;
-    if file.search.is_some() {
-        bail!("config file: \"search\" is for `wogan run`; `wogan replay` reads \"sim\" and \"driver\"");
-    }
-    let (sim, driver) = args.driver.resolve(&file)?;
+    let (sim, driver) = args
+        .driver
+        .resolve_for_driving(args.config.as_deref(), "replay")?;
     let (roads, mut problems) = read_saved_roads(&args.files, args.driver.map_size);
     for problem in &problems {
         eprintln!("wogan replay: {problem}");

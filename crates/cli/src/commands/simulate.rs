@@ -2,13 +2,12 @@
 
 use super::road_stream::{answer_each_road, Answer};
 use super::Status;
-use crate::config_file::ConfigFile;
 use crate::driver_options::DriverOptions;
 use crate::interrupt::stop_flag;
 use crate::json_lines::{open_input, JsonLinesWriter};
 use crate::records::{InvalidOutcome, Record, ResultRecord, TraceRecord};
 use crate::sbst::format::execution_data;
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use clap::Args;
 use road_sim::{simulate, Reason, Road, Sample, StopReason, Validator};
 use std::io::Write;
@@ -49,11 +48,9 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
     }
     let mut out = JsonLinesWriter::create(None)?;
     let validator = Validator::new(args.driver.map_size);
-    let file = ConfigFile::read_for(args.config.as_deref(), args.driver.kind)?;
-    if file.search.is_some() {
-        bail!("config file: \"search\" is for `wogan run`; `wogan simulate` reads \"sim\" and \"driver\"");
-    }
-    let (config, driver) = args.driver.resolve(&file)?;
+    let (config, driver) = args
+        .driver
+        .resolve_for_driving(args.config.as_deref(), "simulate")?;
     let max_steering_deg = config.vehicle.max_steering_rad.to_degrees();
     let sampled = args.trace.is_some() || args.execution_data;
     answer_each_road(
