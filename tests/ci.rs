@@ -2,9 +2,13 @@
 //! generator (`run --save-generator`, `sample`, `run --generator`), their exit statuses, their
 //! JUnit XML and their bad input.
 
-use crate::common::{records, scratch_dir, wogan, write_file};
+use crate::common::{records, scratch_dir, spawn, watchdog, wogan, write_file};
 use serde_json::Value;
+use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
+use std::process::Command;
+use std::sync::atomic::Ordering;
+use std::time::Duration;
 
 /// The path as an argument.
 fn arg(path: &Path) -> &str {
@@ -420,4 +424,91 @@ fn a_saved_generator_samples_the_roads_a_generator_run_drives() {
         "",
     );
     assert_eq!(output.status.code(), Some(2));
+}
+
+/// Sends SIGTERM to `child`.
+fn terminate(child: &std::process::Child) {
+    Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+}
+
+#[test]
+fn sigterm_ends_replay_and_sample_with_what_they_did_written() {
+    let dir = scratch_dir("ci-sigterm");
+    let run = dir.join("run.jsonl");
+    let generator = dir.join("gen.json");
+    let output = wogan(
+        &[
+            "run",
+            "--max-tests",
+            "40",
+            "--seed",
+            "6",
+            "--quiet",
+            "--out",
+            arg(&run),
+            "--save-generator",
+            arg(&generator),
+        ],
+        "",
+    );
+    assert_eq!(output.status.code(), Some(0));
+    // Replay: the first answer read, then SIGTERM: exit 130 with every answer given kept.
+    let roads = "tests/reference/roads.jsonl";
+    let roads = format!("{}/../../{roads}", env!("CARGO_MANIFEST_DIR"));
+    let mut child = spawn(&[
+        "replay",
+        &roads,
+        "--oracle",
+        "dave2-proxy",
+        "--junit",
+        arg(&dir.join("r.xml")),
+    ]);
+    let done = watchdog(&child, Duration::from_secs(300));
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let mut first = String::new();
+    stdout.read_line(&mut first).unwrap();
+    terminate(&child);
+    let mut rest = String::new();
+    stdout.read_to_string(&mut rest).unwrap();
+    let status = child.wait().unwrap();
+    done.store(true, Ordering::SeqCst);
+    assert_eq!(status.code(), Some(130));
+    let answered = 1 + rest.lines().count();
+    assert!(answered < 300, "{answered} of 300 roads answered");
+    let ((cases, _, _, _), _) = junit(&dir.join("r.xml"));
+    assert_eq!(cases, answered, "the JUnit report holds what was driven");
+    // Sample: once it says it is drawing, SIGTERM: the roads drawn so far, ranked, and exit 130.
+    let mut child = spawn(&["sample", "--generator", arg(&generator), "-n", "100000"]);
+    let done = watchdog(&child, Duration::from_secs(300));
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut said = String::new();
+    stderr.read_line(&mut said).unwrap();
+    assert!(
+        said.starts_with("wogan sample: drawing 100000 road(s)"),
+        "{said}"
+    );
+    terminate(&child);
+    let mut drawn = String::new();
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut drawn)
+        .unwrap();
+    let status = child.wait().unwrap();
+    done.store(true, Ordering::SeqCst);
+    assert_eq!(status.code(), Some(130));
+    let ranks: Vec<u64> = drawn
+        .lines()
+        .map(|l| {
+            serde_json::from_str::<Value>(l).expect("JSON")["rank"]
+                .as_u64()
+                .unwrap()
+        })
+        .collect();
+    assert!(ranks.len() < 100_000);
+    assert!(ranks.iter().enumerate().all(|(i, r)| *r == i as u64 + 1));
 }

@@ -5,12 +5,11 @@
 //! SIGTERM after k answers), never by time; a watchdog only keeps a broken build from hanging the
 //! suite.
 
-use crate::common::{records, scratch_dir, wogan};
+use crate::common::{records, scratch_dir, spawn, watchdog, wogan};
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Write};
-use std::process::{Child, Command, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::process::Command;
+use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 /// The first `count` roads of the reference set, one JSON line each.
@@ -40,37 +39,6 @@ fn refused(args: &[&str], named: &str) {
     assert_eq!(code, Some(2), "{args:?}: {stderr}");
     assert!(stderr.contains(named), "{args:?}: {stderr}");
     assert_eq!(stdout_bytes, 0, "{args:?} wrote output");
-}
-
-/// Kills `child` if the test has not finished within `limit` (a hang detector, not a timing).
-fn watchdog(child: &Child, limit: Duration) -> Arc<AtomicBool> {
-    let done = Arc::new(AtomicBool::new(false));
-    let (pid, flag) = (child.id(), Arc::clone(&done));
-    std::thread::spawn(move || {
-        let step = Duration::from_millis(200);
-        let mut waited = Duration::ZERO;
-        while waited < limit {
-            if flag.load(Ordering::SeqCst) {
-                return;
-            }
-            std::thread::sleep(step);
-            waited += step;
-        }
-        let _ = Command::new("kill")
-            .args(["-KILL", &pid.to_string()])
-            .status();
-    });
-    done
-}
-
-fn spawn(args: &[&str]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_wogan"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("wogan starts")
 }
 
 #[test]

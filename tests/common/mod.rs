@@ -3,7 +3,10 @@
 use serde_json::Value;
 use std::io::Write;
 use std::path::PathBuf;
-use std::process::{Command, Output, Stdio};
+use std::process::{Child, Command, Output, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
 
 /// A fresh, empty scratch directory for one test (each test binary is its own process, so the
 /// process id keeps binaries apart and `name` keeps tests apart).
@@ -61,4 +64,36 @@ pub fn records(output: &Output) -> Vec<Value> {
         .lines()
         .map(|l| serde_json::from_str(l).expect("every output line is JSON"))
         .collect()
+}
+
+/// Kills `child` if the test has not finished within `limit` (a hang detector, not a timing).
+pub fn watchdog(child: &Child, limit: Duration) -> Arc<AtomicBool> {
+    let done = Arc::new(AtomicBool::new(false));
+    let (pid, flag) = (child.id(), Arc::clone(&done));
+    std::thread::spawn(move || {
+        let step = Duration::from_millis(200);
+        let mut waited = Duration::ZERO;
+        while waited < limit {
+            if flag.load(Ordering::SeqCst) {
+                return;
+            }
+            std::thread::sleep(step);
+            waited += step;
+        }
+        let _ = Command::new("kill")
+            .args(["-KILL", &pid.to_string()])
+            .status();
+    });
+    done
+}
+
+/// Starts `wogan ARGS` with every standard stream piped.
+pub fn spawn(args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_wogan"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("wogan starts")
 }

@@ -2,10 +2,12 @@
 //! --save-generator`), in seconds and without training. Each road is chosen as WOGAN chooses a test
 //! (generated candidates, invalid ones dropped, the rest ranked by the analyzer until one clears the
 //! decaying acceptance target); the roads are written ranked by the analyzer's prediction, best
-//! first, as JSON lines that `simulate` and `replay` read. Same file and seed, same roads.
+//! first, as JSON lines that `simulate` and `replay` read. Same file and seed, same roads. Ctrl-C
+//! ends the drawing and writes the roads drawn so far.
 
 use super::Status;
 use crate::generator_file;
+use crate::interrupt::stop_flag;
 use crate::json_lines::JsonLinesWriter;
 use crate::records::{Record, SampleRecord};
 use crate::road_sut::RoadSut;
@@ -15,7 +17,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
 use road_sim::{DriverConfig, DriverKind, FitnessKind, SimConfig, Validator};
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use wogan_core::{Sampler, WoganModel};
 
 /// Options of `wogan sample`.
@@ -60,19 +62,32 @@ pub fn run(args: &SampleArgs) -> Result<Status> {
         fitness: FitnessKind::Bolp,
         stop: &stop,
     };
-    let sampler = Sampler::new(saved.curvature_points, saved.sampler.clone());
+    // Ctrl-C ends the drawing: the roads drawn so far are written, ranked.
+    let interrupt = stop_flag()?;
+    let go_on = || !interrupt.load(Ordering::SeqCst);
+    let sampler = Sampler::new(saved.curvature_points, saved.sampler.clone()).interruptible(&go_on);
     let mut rng = ChaCha20Rng::seed_from_u64(args.seed);
+    eprintln!(
+        "wogan sample: drawing {} road(s) from {}",
+        args.count,
+        args.generator.display()
+    );
     let mut samples = Vec::with_capacity(args.count as usize);
     for _ in 0..args.count {
-        let proposal = model.propose(&roads, &sampler, &mut rng)?;
-        samples.push(proposal);
+        match model.propose(&roads, &sampler, &mut rng) {
+            Ok(proposal) => samples.push(proposal),
+            Err(wogan_core::Error::Interrupted) => break,
+            Err(error) => return Err(error.into()),
+        }
     }
+    let interrupted = interrupt.load(Ordering::SeqCst);
     // Best first; equal predictions keep the order they were drawn in.
     samples.sort_by(|a, b| {
         let p = |s: &wogan_core::Proposal| s.predicted.unwrap_or(f64::NEG_INFINITY);
         p(b).total_cmp(&p(a))
     });
     let mut out = JsonLinesWriter::create(args.out.as_ref())?;
+    let samples_written = samples.len();
     for (rank, proposal) in samples.into_iter().enumerate() {
         let curvature = roads.curvature(&proposal.test);
         let road_points = roads.roads.points(&curvature);
@@ -85,11 +100,15 @@ pub fn run(args: &SampleArgs) -> Result<Status> {
     }
     eprintln!(
         "wogan sample: {} road(s) from {} (trained against {} on {} tests, seed {})",
-        args.count,
+        samples_written,
         args.generator.display(),
         saved.driver,
         saved.tests,
         saved.seed
     );
-    Ok(Status::AllRead)
+    Ok(if interrupted {
+        Status::Interrupted
+    } else {
+        Status::AllRead
+    })
 }
