@@ -3,6 +3,7 @@
 
 mod ci;
 mod common;
+mod executor;
 mod export;
 mod fuzz;
 mod reference_vectors;

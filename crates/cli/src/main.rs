@@ -9,6 +9,7 @@
 mod commands;
 mod config_file;
 mod driver_options;
+mod executor;
 mod generator_file;
 mod interrupt;
 mod json_lines;

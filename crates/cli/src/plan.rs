@@ -7,6 +7,7 @@
 
 use crate::config_file::{self, ConfigFile};
 use crate::driver_options::{DriverOptions, DEFAULT_MAP_SIZE_M};
+use crate::executor::ExecutorSettings;
 use crate::generator_file::{self, GeneratorPayload};
 use crate::output_file::same_file;
 use crate::records::{Header, VERSION};
@@ -95,12 +96,35 @@ pub struct RunArgs {
     /// settings are the file's.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction"])]
     pub generator: Option<PathBuf>,
+    /// Drive each road with an external program instead of wogan's simulator: `cmd:COMMAND`
+    /// (run with `sh -c`; one per worker), speaking the executor protocol (docs/reference.md).
+    /// Taken only from this command line, never from a file.
+    #[arg(long, value_name = "cmd:COMMAND", value_parser = executor_command)]
+    pub executor: Option<String>,
+    /// Longest wait for an executor's answer to one road.
+    #[arg(long, default_value = "10m", value_parser = humantime::parse_duration, requires = "executor")]
+    pub executor_timeout: Duration,
+    /// Roads an executor may fail in a row before the run stops.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000), requires = "executor")]
+    pub executor_max_errors: u32,
+}
+
+/// `--executor`: the command after `cmd:`.
+fn executor_command(value: &str) -> Result<String, String> {
+    match value.strip_prefix("cmd:") {
+        Some(command) if !command.trim().is_empty() => Ok(command.to_owned()),
+        Some(_) => Err("cmd: names no command".into()),
+        None => Err(format!(
+            "{value:?}: give the executor as cmd:\"COMMAND ARGS\""
+        )),
+    }
 }
 
 /// Curvature values per road unless `--curvature-points` says otherwise (the paper's).
 const DEFAULT_CURVATURE_POINTS: u32 = 5;
 /// Distance between road points unless `--step-length` says otherwise, metres (the paper's).
 const DEFAULT_STEP_LENGTH_M: f64 = 15.0;
+
 /// `--fail-on` values of `wogan run`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum FailOn {
@@ -149,6 +173,8 @@ pub struct RunPlan {
     pub save_generator: Option<PathBuf>,
     /// The saved generator every test is chosen with (`--generator`), if any.
     pub generator: Option<GeneratorPayload>,
+    /// The external program that drives the roads (`--executor`), if any.
+    pub executor: Option<ExecutorSettings>,
 }
 
 /// The settings that determine a run's results, as its header's `config` shows them.
@@ -179,6 +205,10 @@ pub struct RunSettings {
     /// The saved generator the tests are chosen with, when one is.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub generator: Option<GeneratorSource>,
+    /// The external program that drove the roads, when one did (`--executor`; recorded, never
+    /// started from a file).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub executor: Option<String>,
 }
 
 /// Which saved generator a run chose its tests with, as its header records it.
@@ -231,6 +261,9 @@ impl RunPlan {
         let file = ConfigFile::read_for(args.config.as_deref(), kind)?;
         let (sim, driver) = args.driver.resolve(&file)?;
         let fitness = args.fitness.unwrap_or(preset.fitness);
+        if args.executor.is_some() && fitness == FitnessKind::Distance {
+            bail!("--fitness distance needs the lane distances of wogan's simulator; an executor reports BOLP: use bolp or bolp-scaled");
+        }
         let mut search_defaults = RunConfig::default();
         search_defaults.wogan.target_decay = default_target_decay(fitness, &sim);
         let mut search = RunConfig {
@@ -334,6 +367,7 @@ impl RunPlan {
                 sim,
                 driver,
                 search,
+                executor: args.executor.clone(),
                 generator: args
                     .generator
                     .as_ref()
@@ -352,6 +386,11 @@ impl RunPlan {
             junit: args.junit.clone(),
             save_generator: args.save_generator.clone(),
             generator,
+            executor: args.executor.clone().map(|command| ExecutorSettings {
+                command,
+                timeout: args.executor_timeout,
+                max_consecutive_errors: args.executor_max_errors as usize,
+            }),
         })
     }
 

@@ -12,6 +12,7 @@ use std::sync::atomic::AtomicBool;
 use wogan_core::{Execution, Sut};
 
 /// Roads from curvature vectors, judged by one driver.
+#[derive(Clone)]
 pub struct RoadSut<'a> {
     /// How curvature values become road points.
     pub roads: CurvatureRoad,
@@ -70,6 +71,7 @@ impl Sut for RoadSut<'_> {
                 road_points,
                 interpolated: road.interpolated,
                 result,
+                error: None,
             },
         })
     }

@@ -62,6 +62,15 @@ pub fn run(args: &ExportArgs) -> Result<Status> {
             args.run.display()
         );
     };
+    if let Some(command) = header.config.get("executor").and_then(|c| c.as_str()) {
+        bail!(
+            "{} was driven by an external executor ({command}); export drives each test again \
+             with wogan's simulator, which would not give that executor's drives. wogan never \
+             starts a command a file names: to drive the roads with it, give it yourself, e.g. \
+             `wogan run --executor cmd:\"{command}\" ...`",
+            args.run.display()
+        );
+    }
     write_result_folder(
         &run,
         header,

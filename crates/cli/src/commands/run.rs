@@ -2,12 +2,13 @@
 //! executed test, per training round, and a final summary.
 
 use super::Status;
+use crate::executor::ExecutorSut;
 use crate::generator_file::{self, GeneratorPayload};
 use crate::interrupt::stop_flag;
 use crate::json_lines::JsonLinesWriter;
 use crate::junit::{self, JunitCase};
 use crate::plan::{FailOn, RunArgs, RunPlan};
-use crate::records::{Record, SummaryRecord, TestRecord, TrainRecord};
+use crate::records::{Record, RoadExecution, SummaryRecord, TestRecord, TrainRecord};
 use crate::road_sut::RoadSut;
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -16,7 +17,7 @@ use road_sim::Validator;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
 use wogan_core::diversity::median_pairwise_distance;
-use wogan_core::{Budget, Event, Summary};
+use wogan_core::{Budget, Event, ModelSnapshot, Summary, Sut};
 
 /// Runs `wogan run`.
 pub fn run(args: &RunArgs) -> Result<Status> {
@@ -104,27 +105,29 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
             write_error.get_or_insert(error);
         }
     };
-    let (search, budget, seed) = (&settings.search, plan.budget, plan.seed);
-    let outcome = match &plan.generator {
-        Some(saved) => wogan_core::run_from_snapshot(
-            &sut,
-            &saved.model,
-            search,
-            budget,
-            seed,
+    let executor = plan.executor.as_ref().map(|settings| {
+        ExecutorSut::new(
+            sut.clone(),
+            plan.settings.sim,
+            plan.fitness,
+            settings.clone(),
             stop,
-            &mut on_event,
         )
-        .map(|summary| (summary, None)),
-        None => wogan_core::run_with_snapshot(&sut, search, budget, seed, stop, &mut on_event),
+    });
+    let outcome = match &executor {
+        Some(executor) => search(executor, plan, stop, &mut on_event),
+        None => search(&sut, plan, stop, &mut on_event),
     };
+    let gave_up = executor.as_ref().and_then(ExecutorSut::gave_up);
+    // The executors end (and are reaped) before the summary is written.
+    drop(executor);
     progress.finish();
     if let Some(error) = write_error {
         return Err(error);
     }
     let diversity = median_pairwise_distance(&failing_profiles, plan.seed);
     let (summary, snapshot, error) = match outcome {
-        Ok((summary, snapshot)) => (summary, snapshot, None),
+        Ok((summary, snapshot)) => (summary, snapshot, gave_up),
         Err(error) => (Summary::default(), None, Some(error.to_string())),
     };
     out.write(&Record::Summary(SummaryRecord {
@@ -216,6 +219,23 @@ fn write_junit(path: &std::path::Path, plan: &RunPlan, tests: &[TestRecord]) -> 
         ("wogan", crate::records::VERSION.to_owned()),
     ];
     junit::write_report(path, "wogan run", &properties, &cases)
+}
+
+/// Runs the plan's search on `sut`: from a saved generator, or WOGAN or random search.
+fn search<S: Sut<Output = RoadExecution> + ?Sized>(
+    sut: &S,
+    plan: &RunPlan,
+    stop: &AtomicBool,
+    on_event: &mut dyn FnMut(Event<RoadExecution>),
+) -> Result<(Summary, Option<ModelSnapshot>), wogan_core::Error> {
+    let (config, budget, seed) = (&plan.settings.search, plan.budget, plan.seed);
+    match &plan.generator {
+        Some(saved) => {
+            wogan_core::run_from_snapshot(sut, &saved.model, config, budget, seed, stop, on_event)
+                .map(|summary| (summary, None))
+        }
+        None => wogan_core::run_with_snapshot(sut, config, budget, seed, stop, on_event),
+    }
 }
 
 /// The progress bar on stderr, shown only on a terminal.

@@ -5,8 +5,11 @@ use super::curvature::{CurvatureRoad, DEFAULT_STEP_M};
 use super::Point;
 use serde_json::Value;
 
-/// Record types of `wogan` output that hold no road: skipped when they have none.
-const RECORDS_WITHOUT_ROAD: [&str; 5] = ["header", "train", "summary", "error", "verdict"];
+/// Record types that hold no road, skipped when they have none: `wogan` output's, and the
+/// executor protocol's `hello` and `bye` (so that `wogan simulate` serves as an executor).
+const RECORDS_WITHOUT_ROAD: [&str; 7] = [
+    "header", "train", "summary", "error", "verdict", "hello", "bye",
+];
 
 /// What one input line holds.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,0 +1,11 @@
+//! The search as a service: `wogan run --executor cmd:"COMMAND"` hands each valid road the search
+//! proposes to an external program that drives it in any simulator and answers with the result.
+//! [`protocol`] owns the wire format (versioned; docs/reference.md has the specification and a
+//! full exchange), [`process`] one executor child (its pipes, a deadline per road, the tail of
+//! its stderr, killed and reaped when dropped), [`sut`] the system under test the search sees.
+
+pub mod process;
+pub mod protocol;
+pub mod sut;
+
+pub use sut::{ExecutorSettings, ExecutorSut};

@@ -1,0 +1,198 @@
+//! One executor child: started with `sh -c "exec COMMAND"` (so that killing it kills the program,
+//! not a shell), spoken to one line at a time, read by a thread so that a deadline and Ctrl-C can
+//! be honoured while it works, its stderr's last lines kept for the message when it fails. Dropping
+//! it says `bye`, closes its input, and kills and reaps it if it does not end at once: no zombie.
+
+use super::protocol::Request;
+use std::collections::VecDeque;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// Longest answer line read, bytes: a longer one is a fault, not a memory sink.
+const MAX_LINE_BYTES: u64 = 1 << 20;
+/// Lines of the executor's stderr kept for a fault's message.
+const STDERR_TAIL_LINES: usize = 20;
+/// Longest stderr line kept, characters.
+const STDERR_LINE_CHARS: usize = 400;
+/// How often a wait for an answer looks at the stop flag.
+const STOP_POLL: Duration = Duration::from_millis(50);
+/// How long an executor told `bye` has to end before it is killed.
+const GRACE: Duration = Duration::from_millis(500);
+
+/// Why a road got no answer.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Fault {
+    /// The executor could not be started.
+    Start(String),
+    /// It closed its output or ended.
+    Ended,
+    /// It gave no answer within the deadline.
+    Timeout(Duration),
+    /// It wrote more than one line for one road.
+    ExtraLines,
+    /// Its answer could not be read (too long, not UTF-8) or the road not written.
+    Io(String),
+    /// The run is being stopped (Ctrl-C): the road is not reported.
+    Stopped,
+}
+
+impl std::fmt::Display for Fault {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Fault::Start(e) => write!(f, "the executor could not be started: {e}"),
+            Fault::Ended => write!(
+                f,
+                "the executor ended (or closed its output) before answering"
+            ),
+            Fault::Timeout(t) => write!(f, "no answer within {:.1} s", t.as_secs_f64()),
+            Fault::ExtraLines => write!(f, "the executor wrote more than one line for one road"),
+            Fault::Io(e) => write!(f, "{e}"),
+            Fault::Stopped => write!(f, "stopped"),
+        }
+    }
+}
+
+/// A running executor.
+pub struct ExecutorProcess {
+    child: Child,
+    stdin: Option<ChildStdin>,
+    answers: Receiver<Result<String, String>>,
+    stderr_tail: Arc<Mutex<VecDeque<String>>>,
+}
+
+impl ExecutorProcess {
+    /// Starts `command` and writes it `hello`.
+    pub fn start(command: &str, hello: &Request) -> Result<Self, Fault> {
+        let mut child = Command::new("sh")
+            .arg("-c")
+            .arg(format!("exec {command}"))
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .map_err(|e| Fault::Start(e.to_string()))?;
+        let (stdout, stderr) = match (child.stdout.take(), child.stderr.take()) {
+            (Some(stdout), Some(stderr)) => (stdout, stderr),
+            _ => return Err(Fault::Start("its pipes could not be opened".into())),
+        };
+        let (sender, answers) = sync_channel(4);
+        std::thread::spawn(move || {
+            let mut reader = BufReader::new(stdout);
+            loop {
+                let mut bytes = Vec::new();
+                let read = (&mut reader)
+                    .take(MAX_LINE_BYTES)
+                    .read_until(b'\n', &mut bytes);
+                let line = match read {
+                    Ok(0) => return,
+                    Ok(_)
+                        if bytes.last() != Some(&b'\n') && bytes.len() as u64 >= MAX_LINE_BYTES =>
+                    {
+                        Err(format!("an answer line longer than {MAX_LINE_BYTES} bytes"))
+                    }
+                    Ok(_) => String::from_utf8(bytes)
+                        .map(|s| s.trim_end().to_owned())
+                        .map_err(|_| "an answer that is not UTF-8 text".to_owned()),
+                    Err(e) => Err(format!("cannot read the executor's output: {e}")),
+                };
+                let failed = line.is_err();
+                if sender.send(line).is_err() || failed {
+                    return;
+                }
+            }
+        });
+        let stderr_tail = Arc::new(Mutex::new(VecDeque::new()));
+        let tail = Arc::clone(&stderr_tail);
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).lines() {
+                let Ok(line) = line else { return };
+                let mut tail = tail.lock().unwrap_or_else(|p| p.into_inner());
+                if tail.len() == STDERR_TAIL_LINES {
+                    tail.pop_front();
+                }
+                tail.push_back(line.chars().take(STDERR_LINE_CHARS).collect());
+            }
+        });
+        let stdin = child.stdin.take();
+        let mut process = Self {
+            child,
+            stdin,
+            answers,
+            stderr_tail,
+        };
+        process.send(hello)?;
+        Ok(process)
+    }
+
+    /// Writes one request line.
+    fn send(&mut self, request: &Request) -> Result<(), Fault> {
+        let stdin = self.stdin.as_mut().ok_or(Fault::Ended)?;
+        let mut line = serde_json::to_vec(request).map_err(|e| Fault::Io(e.to_string()))?;
+        line.push(b'\n');
+        stdin
+            .write_all(&line)
+            .and_then(|()| stdin.flush())
+            .map_err(|_| Fault::Ended)
+    }
+
+    /// Sends `road` and waits for its one answer line, at most `timeout`, giving up when `stop`
+    /// is set.
+    pub fn answer(
+        &mut self,
+        road: &Request,
+        timeout: Duration,
+        stop: &AtomicBool,
+    ) -> Result<String, Fault> {
+        // A line left from before (an answer to nothing) breaks the one-answer rule.
+        if self.answers.try_recv().is_ok() {
+            return Err(Fault::ExtraLines);
+        }
+        self.send(road)?;
+        let deadline = Instant::now() + timeout;
+        loop {
+            if stop.load(Ordering::SeqCst) {
+                return Err(Fault::Stopped);
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(Fault::Timeout(timeout));
+            }
+            match self.answers.recv_timeout(left.min(STOP_POLL)) {
+                Ok(Ok(line)) if line.trim().is_empty() => continue,
+                Ok(Ok(line)) => return Ok(line),
+                Ok(Err(problem)) => return Err(Fault::Io(problem)),
+                Err(RecvTimeoutError::Timeout) => continue,
+                Err(RecvTimeoutError::Disconnected) => return Err(Fault::Ended),
+            }
+        }
+    }
+
+    /// The last lines the executor wrote to stderr, joined (empty when none).
+    pub fn stderr_tail(&self) -> String {
+        // The stderr thread may still be reading what the executor wrote as it failed.
+        std::thread::sleep(Duration::from_millis(20));
+        let tail = self.stderr_tail.lock().unwrap_or_else(|p| p.into_inner());
+        tail.iter().cloned().collect::<Vec<_>>().join("\n")
+    }
+}
+
+impl Drop for ExecutorProcess {
+    fn drop(&mut self) {
+        let _ = self.send(&Request::Bye);
+        // Closing its input is the executor's sign to end.
+        self.stdin = None;
+        let deadline = Instant::now() + GRACE;
+        while Instant::now() < deadline {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}

@@ -1,0 +1,138 @@
+//! The executor protocol, version 1. wogan writes one JSON object per line, each with a `"type"`:
+//! `hello` once when the executor starts (not answered), `road` per road (answered by exactly one
+//! line), `bye` before it closes the executor's input (not answered). An answer is one JSON object:
+//! `max_bolp` (required, in `[0, 1]`), and optionally `outcome` (`PASS`, `FAIL` or `ERROR`;
+//! derived from the tolerance when absent), `sim_time_s` (simulated seconds, charged to the
+//! execution budget; 0 when absent) and `oob_side` (`left` or `right`). Other fields are ignored,
+//! so `wogan simulate`'s `result` lines are answers.
+
+use road_sim::{Outcome, Point};
+use serde::Serialize;
+use serde_json::Value;
+
+/// The protocol's name in the `hello` line.
+pub const PROTOCOL: &str = "wogan-executor";
+/// The protocol's version.
+pub const VERSION: u32 = 1;
+
+/// A line wogan writes to the executor.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum Request<'a> {
+    /// The first line: what is spoken and how roads are judged.
+    Hello {
+        /// Always [`PROTOCOL`].
+        protocol: &'static str,
+        /// Always [`VERSION`].
+        version: u32,
+        /// Units of every number: metres, seconds.
+        units: &'static str,
+        /// Side of the square map the roads lie on, metres.
+        map_size_m: f64,
+        /// A drive fails when its max BOLP exceeds this.
+        oob_tolerance: f64,
+        /// The speed limit of the drive, km/h.
+        speed_limit_kmh: f64,
+    },
+    /// A road to drive: its control points, as the competition's tests give them.
+    Road {
+        /// The test's position in the run, from 1.
+        id: usize,
+        /// The road's points, metres.
+        road_points: &'a [Point],
+    },
+    /// The last line: no more roads.
+    Bye,
+}
+
+/// An executor's answer, checked.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Answer {
+    /// Largest BOLP of the drive, `[0, 1]`.
+    pub max_bolp: f64,
+    /// The outcome: the executor's, or from `max_bolp` and the tolerance.
+    pub outcome: Outcome,
+    /// Simulated seconds.
+    pub sim_time_s: f64,
+    /// Which edge of its lane the car left over, when the executor says.
+    pub oob_side: Option<road_sim::LaneSide>,
+}
+
+/// Reads one answer line; the error names the field at fault.
+pub fn parse_answer(line: &str, oob_tolerance: f64) -> Result<Answer, String> {
+    let value: Value =
+        serde_json::from_str(line).map_err(|e| format!("the answer is not JSON: {e}"))?;
+    let object = value
+        .as_object()
+        .ok_or_else(|| "the answer is not a JSON object".to_owned())?;
+    let max_bolp = match object.get("max_bolp").map(Value::as_f64) {
+        Some(Some(b)) if (0.0..=1.0).contains(&b) => b,
+        Some(Some(b)) => return Err(format!("max_bolp: {b} is outside [0, 1]")),
+        Some(None) => return Err("max_bolp: not a number".to_owned()),
+        None => return Err("max_bolp: missing".to_owned()),
+    };
+    let outcome = match object.get("outcome") {
+        None | Some(Value::Null) if max_bolp > oob_tolerance => Outcome::Fail,
+        None | Some(Value::Null) => Outcome::Pass,
+        Some(Value::String(s)) if s == "PASS" => Outcome::Pass,
+        Some(Value::String(s)) if s == "FAIL" => Outcome::Fail,
+        Some(Value::String(s)) if s == "ERROR" => Outcome::Error,
+        Some(other) => return Err(format!("outcome: {other} is not PASS, FAIL or ERROR")),
+    };
+    let sim_time_s = match object.get("sim_time_s") {
+        None | Some(Value::Null) => 0.0,
+        Some(v) => match v.as_f64() {
+            Some(t) if t.is_finite() && t >= 0.0 => t,
+            _ => {
+                return Err(format!(
+                    "sim_time_s: {v} is not a finite number of seconds >= 0"
+                ))
+            }
+        },
+    };
+    let oob_side = match object.get("oob_side") {
+        None | Some(Value::Null) => None,
+        Some(Value::String(s)) if s == "left" => Some(road_sim::LaneSide::Left),
+        Some(Value::String(s)) if s == "right" => Some(road_sim::LaneSide::Right),
+        Some(other) => return Err(format!("oob_side: {other} is not \"left\" or \"right\"")),
+    };
+    Ok(Answer {
+        max_bolp,
+        outcome,
+        sim_time_s,
+        oob_side,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn answers_are_checked_field_by_field() {
+        let a = parse_answer(r#"{"max_bolp": 0.9}"#, 0.85).unwrap();
+        assert_eq!(
+            (a.outcome, a.sim_time_s, a.oob_side),
+            (Outcome::Fail, 0.0, None)
+        );
+        let a = parse_answer(r#"{"max_bolp": 0.5, "outcome": "ERROR", "sim_time_s": 7.5, "oob_side": "right", "x": 1}"#, 0.85).unwrap();
+        assert_eq!(a.outcome, Outcome::Error);
+        assert_eq!(a.oob_side, Some(road_sim::LaneSide::Right));
+        // `wogan simulate`'s answers are answers.
+        let a = parse_answer(r#"{"type":"result","line":1,"outcome":"PASS","reason":null,"max_bolp":1e-14,"sim_time_s":6.5}"#, 0.85).unwrap();
+        assert_eq!((a.outcome, a.sim_time_s), (Outcome::Pass, 6.5));
+        for (line, says) in [
+            ("nope", "not JSON"),
+            ("[1]", "not a JSON object"),
+            ("{}", "max_bolp: missing"),
+            (r#"{"max_bolp": 1.5}"#, "outside [0, 1]"),
+            (r#"{"max_bolp": "high"}"#, "max_bolp: not a number"),
+            (r#"{"max_bolp": 0.1, "outcome": "MAYBE"}"#, "outcome:"),
+            (r#"{"max_bolp": 0.1, "sim_time_s": -1}"#, "sim_time_s:"),
+            (r#"{"max_bolp": 0.1, "oob_side": "up"}"#, "oob_side:"),
+        ] {
+            let error = parse_answer(line, 0.85).unwrap_err();
+            assert!(error.contains(says), "{line}: {error}");
+        }
+    }
+}

@@ -1,0 +1,278 @@
+//! End-to-end tests of `wogan run --executor`: the protocol from both ends (`wogan simulate` as the
+//! executor gives the run of wogan's own simulator), and an executor that crashes, hangs, writes
+//! garbage, answers out of range or floods (tests/python/faulty_executor.py; skipped, saying so,
+//! where python3 is missing), and that a file never starts an executor.
+
+use crate::common::{scratch_dir, spawn, watchdog, wogan};
+use serde_json::Value;
+use std::io::{BufReader, Read};
+use std::path::Path;
+use std::process::Command;
+use std::sync::atomic::Ordering;
+use std::time::Duration;
+
+fn arg(path: &Path) -> &str {
+    path.to_str().expect("UTF-8 path")
+}
+
+/// `cmd:` and the faulty executor in `mode` at road `id`, or `None` without python3.
+fn faulty(mode: &str, id: usize) -> Option<String> {
+    let python = Command::new("python3").arg("--version").output();
+    if !python.is_ok_and(|o| o.status.success()) {
+        eprintln!("python3 is not installed: the faulty-executor test is skipped");
+        return None;
+    }
+    let script = format!(
+        "{}/../../tests/python/faulty_executor.py",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    Some(format!("cmd:python3 {script} {mode} {id}"))
+}
+
+/// The test records of a run file.
+fn tests_of(path: &Path) -> Vec<Value> {
+    std::fs::read_to_string(path)
+        .unwrap_or_default()
+        .lines()
+        .map(|l| serde_json::from_str::<Value>(l).expect("JSON"))
+        .filter(|r| r["type"] == "test")
+        .collect()
+}
+
+/// The run file's summary.
+fn summary_of(path: &Path) -> Value {
+    let text = std::fs::read_to_string(path).expect("a run file");
+    serde_json::from_str(text.lines().last().expect("a last line")).expect("JSON")
+}
+
+#[test]
+fn wogan_simulate_as_the_executor_drives_as_wogan_does() {
+    let dir = scratch_dir("executor-simulate");
+    let (own, outside) = (dir.join("own.jsonl"), dir.join("outside.jsonl"));
+    let base = ["run", "--max-tests", "30", "--seed", "1", "--quiet"];
+    let executor = format!("cmd:{} simulate", env!("CARGO_BIN_EXE_wogan"));
+    let ran = wogan(&[&base[..], &["--out", arg(&own)]].concat(), "");
+    assert_eq!(ran.status.code(), Some(0));
+    let ran = wogan(
+        &[
+            &base[..],
+            &["--out", arg(&outside), "--executor", &executor],
+        ]
+        .concat(),
+        "",
+    );
+    assert_eq!(
+        ran.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let key = |t: &Value| {
+        (
+            t["id"].clone(),
+            t["outcome"].clone(),
+            t["max_bolp"].clone(),
+            t["fitness"].clone(),
+            t["sim_time_s"].clone(),
+        )
+    };
+    let (a, b) = (tests_of(&own), tests_of(&outside));
+    assert_eq!(a.len(), 30);
+    assert_eq!(
+        a.iter().map(key).collect::<Vec<_>>(),
+        b.iter().map(key).collect::<Vec<_>>()
+    );
+    let header: Value = serde_json::from_str(
+        std::fs::read_to_string(&outside)
+            .unwrap()
+            .lines()
+            .next()
+            .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(
+        header["config"]["executor"],
+        executor.trim_start_matches("cmd:")
+    );
+}
+
+#[test]
+fn a_faulty_executor_fails_one_road_and_is_restarted_for_the_next() {
+    for (mode, says) in [
+        ("crash", "ended (or closed its output) before answering; its stderr ended with:\nfaulty executor: crashing at road 4"),
+        ("hang", "no answer within 1.0 s"),
+        ("garbage", "the answer is not JSON"),
+        ("range", "max_bolp: 7 is outside [0, 1]"),
+        ("flood", "more than one line for one road"),
+    ] {
+        let Some(executor) = faulty(mode, 4) else { return };
+        let dir = scratch_dir(&format!("executor-{mode}"));
+        let out = dir.join("run.jsonl");
+        let ran = wogan(
+            &["run", "--max-tests", "12", "--seed", "3", "--quiet", "--executor", &executor, "--executor-timeout", "1s", "--out", arg(&out)],
+            "",
+        );
+        assert_eq!(ran.status.code(), Some(0), "{mode}: {}", String::from_utf8_lossy(&ran.stderr));
+        let tests = tests_of(&out);
+        assert_eq!(tests.len(), 12, "{mode}: the run goes on");
+        // The flood's extra line is found when the next road is sent.
+        let bad = if mode == "flood" { 5 } else { 4 };
+        for test in &tests {
+            if test["id"] == bad {
+                assert_eq!(test["outcome"], "ERROR", "{mode}: {test}");
+                let error = test["error"].as_str().unwrap_or_default();
+                assert!(error.starts_with(&format!("road {bad}: ")), "{mode}: {error}");
+                assert!(error.contains(says), "{mode}: {error}");
+            } else {
+                assert_eq!(test["outcome"], "PASS", "{mode}: {test}");
+            }
+        }
+    }
+}
+
+#[test]
+fn an_executor_that_always_fails_stops_the_run_with_what_was_done_written() {
+    let Some(executor) = faulty("always-crash", 0) else {
+        return;
+    };
+    let dir = scratch_dir("executor-always");
+    let out = dir.join("run.jsonl");
+    let ran = wogan(
+        &[
+            "run",
+            "--max-tests",
+            "50",
+            "--seed",
+            "3",
+            "--quiet",
+            "--executor",
+            &executor,
+            "--executor-max-errors",
+            "3",
+            "--out",
+            arg(&out),
+        ],
+        "",
+    );
+    assert_eq!(ran.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&ran.stderr);
+    assert!(
+        stderr.contains("the executor failed 3 roads in a row"),
+        "{stderr}"
+    );
+    let tests = tests_of(&out);
+    assert_eq!(tests.len(), 3);
+    assert!(tests.iter().all(|t| t["outcome"] == "ERROR"));
+    let summary = summary_of(&out);
+    assert_eq!(summary["type"], "summary");
+    assert!(summary["error"]
+        .as_str()
+        .unwrap_or_default()
+        .contains("3 roads in a row"));
+}
+
+#[test]
+fn sigterm_ends_a_run_whose_executor_hangs_and_leaves_no_process() {
+    let Some(executor) = faulty("hang", 2) else {
+        return;
+    };
+    let dir = scratch_dir("executor-sigterm");
+    let out = dir.join("run.jsonl");
+    let marker = arg(&dir).to_owned();
+    // The marker names this test's executors among the machine's processes.
+    let executor = format!("{executor} {marker}");
+    let mut child = spawn(&[
+        "run",
+        "--max-tests",
+        "10",
+        "--seed",
+        "3",
+        "--executor",
+        &executor,
+        "--out",
+        arg(&out),
+    ]);
+    let done = watchdog(&child, Duration::from_secs(120));
+    // The first test is written when its road is answered; the second road hangs.
+    let mut waited = 0;
+    while tests_of(&out).is_empty() {
+        std::thread::sleep(Duration::from_millis(50));
+        waited += 1;
+        assert!(waited < 1200, "no first test");
+    }
+    Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let mut stderr = String::new();
+    BufReader::new(child.stderr.take().unwrap())
+        .read_to_string(&mut stderr)
+        .unwrap();
+    let status = child.wait().unwrap();
+    done.store(true, Ordering::SeqCst);
+    assert_eq!(status.code(), Some(130), "{stderr}");
+    assert_eq!(summary_of(&out)["interrupted"], true);
+    let left = Command::new("pgrep").args(["-f", &marker]).output();
+    if let Ok(left) = left {
+        assert!(
+            left.stdout.is_empty(),
+            "executors left running: {}",
+            String::from_utf8_lossy(&left.stdout)
+        );
+    }
+}
+
+#[test]
+fn no_file_starts_an_executor() {
+    let dir = scratch_dir("executor-trust");
+    let out = dir.join("run.jsonl");
+    let executor = format!("cmd:{} simulate", env!("CARGO_BIN_EXE_wogan"));
+    let ran = wogan(
+        &[
+            "run",
+            "--max-tests",
+            "5",
+            "--seed",
+            "1",
+            "--quiet",
+            "--executor",
+            &executor,
+            "--out",
+            arg(&out),
+        ],
+        "",
+    );
+    assert_eq!(ran.status.code(), Some(0));
+    // A header naming a command that would leave a trace if it ran.
+    let canary = dir.join("canary");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let planted = text.replacen(
+        &format!("\"executor\":\"{} simulate\"", env!("CARGO_BIN_EXE_wogan")),
+        &format!("\"executor\":\"touch {}\"", arg(&canary)),
+        1,
+    );
+    assert_ne!(planted, text);
+    let planted_run = dir.join("planted.jsonl");
+    std::fs::write(&planted_run, &planted).unwrap();
+    let export = wogan(&["export", arg(&planted_run), arg(&dir.join("export"))], "");
+    assert_eq!(export.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&export.stderr);
+    assert!(
+        stderr.contains("touch") && stderr.contains("--executor"),
+        "{stderr}"
+    );
+    for args in [
+        vec!["replay", arg(&planted_run)],
+        vec!["report", arg(&planted_run), "--out", arg(&dir)],
+        vec![
+            "suite",
+            "add",
+            arg(&planted_run),
+            "--to",
+            arg(&dir.join("suite.jsonl")),
+        ],
+    ] {
+        let _ = wogan(&args, "");
+    }
+    assert!(!canary.exists(), "a file started a process");
+}

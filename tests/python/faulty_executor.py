@@ -1,0 +1,40 @@
+#!/usr/bin/env python3
+"""An executor for `wogan run --executor` that misbehaves on purpose, for the end-to-end tests.
+
+    faulty_executor.py MODE ROAD_ID
+
+Every road is answered as passed (max BOLP 0.01, 2 simulated seconds) except the road whose
+`id` is ROAD_ID, where MODE happens: `crash` (exit 3 after a line on stderr), `hang` (never
+answer), `garbage` (a line that is not JSON), `range` (max_bolp 7), `flood` (two lines), or
+`fail` (an honest failure: max BOLP 0.9). MODE `always-crash` exits at every road. Standard
+library only.
+"""
+import json
+import sys
+import time
+
+mode, bad_id = sys.argv[1], int(sys.argv[2])
+hello = json.loads(sys.stdin.readline())
+assert hello["type"] == "hello" and hello["protocol"] == "wogan-executor", hello
+for line in sys.stdin:
+    message = json.loads(line)
+    if message["type"] == "bye":
+        break
+    assert message["type"] == "road", message
+    answer = {"max_bolp": 0.01, "outcome": "PASS", "sim_time_s": 2.0}
+    if mode == "always-crash" or message["id"] == bad_id:
+        if mode in ("crash", "always-crash"):
+            print(f"faulty executor: crashing at road {message['id']}", file=sys.stderr, flush=True)
+            sys.exit(3)
+        if mode == "hang":
+            time.sleep(3600)
+        if mode == "garbage":
+            print("this is not JSON", flush=True)
+            continue
+        if mode == "range":
+            answer["max_bolp"] = 7
+        if mode == "flood":
+            print(json.dumps(answer), flush=True)
+        if mode == "fail":
+            answer = {"max_bolp": 0.9, "oob_side": "left", "sim_time_s": 1.5}
+    print(json.dumps(answer), flush=True)
