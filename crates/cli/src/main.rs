@@ -52,7 +52,7 @@ enum Command {
     /// Drive a lane-keeping driver along roads and report how far it left its lane.
     Simulate(simulate::SimulateArgs),
     /// Search for roads on which the driver leaves its lane (WOGAN or random search).
-    Run(plan::RunArgs),
+    Run(Box<plan::RunArgs>),
     /// Train the dave2-proxy driver by behaviour cloning from beamng-ai-proxy.
     TrainDriver(train_driver::TrainDriverArgs),
     /// Write what the dave2-proxy camera sees along a road, as PNG.
