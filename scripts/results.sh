@@ -337,6 +337,24 @@ def ci_section():
 
 
 # ---------------------------------------------------------------------------------------------
+# What the plug points cost (issue 36), from scripts/plug_points_bench.sh's saved output.
+def plug_points_section():
+    out()
+    out("## Plug points")
+    out()
+    path = "target/bench-output/plug-points.txt"
+    if not os.path.exists(path):
+        out("Not measured yet: `scripts/plug_points_bench.sh | tee target/bench-output/plug-points.txt`.")
+        return
+    when = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc)
+    out(f"`scripts/plug_points_bench.sh` ({when:%Y-%m-%d}), each line its own output:")
+    out()
+    for line in open(path):
+        if line.startswith("wogan "):
+            out(f"- {line.strip()}")
+
+
+# ---------------------------------------------------------------------------------------------
 # The drivers on the competition's 300 reference roads: their failure profile (what a driver is
 # calibrated against) and the simulator's speed, from `wogan simulate`'s own timings.
 def simulate_roads(oracle, jobs=1, copies=1):
@@ -723,6 +741,7 @@ def sections(bench):
         ("sbst", sbst_section),
         ("generator", generator_section),
         ("ci", ci_section),
+        ("plug-points", plug_points_section),
         ("reference-roads", reference_roads),
         ("long-roads", long_roads_section),
         ("fidelity", fidelity_section),

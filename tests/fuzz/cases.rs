@@ -245,7 +245,42 @@ pub(super) fn run_case(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case) {
         case.file("config.json", config);
         case.opt(rng, "--config", "config.json");
     }
+    if chance(rng, 0.15) {
+        executor_options(rng, corpus, case, wild);
+    }
     stray_argument(rng, case, wild);
+}
+
+/// `--executor` with an executor that answers garbage: `cat` of mutated lines (records of every
+/// kind, huge numbers, binary, ...), so every answer tries the protocol's reader.
+fn executor_options(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case, wild: bool) {
+    let answers = input_lines(rng, corpus, &mut case.notes);
+    case.file("answers.txt", answers);
+    let executor = if wild && chance(rng, 0.3) {
+        *pick(
+            rng,
+            &[
+                "cmd:",
+                "cat answers.txt",
+                "cmd:no-such-program-here",
+                "cmd:exit 3",
+            ],
+        )
+    } else {
+        "cmd:cat answers.txt"
+    };
+    case.opt(rng, "--executor", executor);
+    // Short waits: an executor that says nothing is a timeout, not a hang of the harness.
+    let timeout = if wild {
+        *pick(rng, &["1s", "0s", "-1s", "10ms", "forever"])
+    } else {
+        "1s"
+    };
+    case.opt(rng, "--executor-timeout", timeout);
+    if chance(rng, 0.5) {
+        let errors = int_arg(rng, wild, 1, 1000, (1, 5));
+        case.opt(rng, "--executor-max-errors", errors);
+    }
 }
 
 pub(super) fn report_case(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case) {

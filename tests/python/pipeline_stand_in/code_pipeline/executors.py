@@ -5,6 +5,7 @@ stores the outcome; the base _execute() refuses to run when no budget is left (s
 the pipeline does). No road validation, no files, no generation-time accounting.
 """
 import sys
+import types
 from abc import ABC, abstractmethod
 
 
@@ -17,6 +18,10 @@ class AbstractTestExecutor(ABC):
         self.debug = debug
         # Simulated seconds left; None means unlimited.
         self.remaining_execution_budget = execution_budget
+        # The budgets as given, where the pipeline keeps them (its Budget object).
+        self.time_budget = types.SimpleNamespace(generation_budget=generation_budget,
+                                                 execution_budget=execution_budget,
+                                                 time_budget=time_budget)
         self.timeout_forced = False
         self.budget_checks = 0  # how often the base _execute() was reached
         self.results = []  # (test id, outcome, description, execution_data) per executed test
