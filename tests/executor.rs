@@ -100,10 +100,10 @@ fn wogan_simulate_as_the_executor_drives_as_wogan_does() {
 fn a_faulty_executor_fails_one_road_and_is_restarted_for_the_next() {
     for (mode, says) in [
         ("crash", "ended (or closed its output) before answering; its stderr ended with:\nfaulty executor: crashing at road 4"),
-        ("hang", "no answer within 1.0 s"),
+        ("hang", "no answer within 1.000 s"),
         ("garbage", "the answer is not JSON"),
         ("range", "max_bolp: 7 is outside [0, 1]"),
-        ("flood", "more than one line for one road"),
+        ("flood", "more than one line for one request"),
     ] {
         let Some(executor) = faulty(mode, 4) else { return };
         let dir = scratch_dir(&format!("executor-{mode}"));

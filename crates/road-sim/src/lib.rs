@@ -23,6 +23,7 @@
 //! assert_eq!(result.outcome, Outcome::Pass);
 //! ```
 
+pub mod child_process;
 pub mod driver;
 pub mod json_float;
 pub mod oob;

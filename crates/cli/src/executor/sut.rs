@@ -5,10 +5,10 @@
 //! starts a new one. After `max_consecutive_errors` failed roads in a row the executor gives up:
 //! the run is stopped, with every finished test written.
 
-use super::process::{ExecutorProcess, Fault};
 use super::protocol::{parse_answer, Answer, Request, PROTOCOL, VERSION};
 use crate::records::RoadExecution;
 use crate::road_sut::RoadSut;
+use road_sim::child_process::{ChildProcess, Fault};
 use road_sim::road::features::RoadFeatures;
 use road_sim::{FitnessKind, LaneExit, Outcome, Road, SimConfig, SimResult};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -39,7 +39,7 @@ pub struct ExecutorSut<'a> {
     pub settings: ExecutorSettings,
     /// Set by Ctrl-C, and by the executor giving up.
     pub stop: &'a AtomicBool,
-    idle: Mutex<Vec<ExecutorProcess>>,
+    idle: Mutex<Vec<ChildProcess>>,
     consecutive_errors: AtomicUsize,
     roads_sent: AtomicUsize,
     gave_up: Mutex<Option<String>>,
@@ -92,8 +92,8 @@ impl<'a> ExecutorSut<'a> {
         let idle = self.idle.lock().unwrap_or_else(|p| p.into_inner()).pop();
         let mut process = match idle {
             Some(process) => process,
-            None => ExecutorProcess::start(&self.settings.command, &self.hello())
-                .map_err(|fault| Some(format!("road {id}: {fault}")))?,
+            None => ChildProcess::start(&self.settings.command, &self.hello(), &Request::Bye)
+                .map_err(|fault| Some(format!("road {id}: the executor: {fault}")))?,
         };
         let request = Request::Road { id, road_points };
         let answered = process
@@ -115,7 +115,7 @@ impl<'a> ExecutorSut<'a> {
                     Ok(Ok(_)) => String::new(),
                 };
                 let stderr = process.stderr_tail();
-                let mut reason = format!("road {id}: {problem}");
+                let mut reason = format!("road {id}: the executor: {problem}");
                 if !stderr.is_empty() {
                     reason.push_str(&format!("; its stderr ended with:\n{stderr}"));
                 }

@@ -1,9 +1,10 @@
-//! One executor child: started with `sh -c "exec COMMAND"` (so that killing it kills the program,
-//! not a shell), spoken to one line at a time, read by a thread so that a deadline and Ctrl-C can
-//! be honoured while it works, its stderr's last lines kept for the message when it fails. Dropping
-//! it says `bye`, closes its input, and kills and reaps it if it does not end at once: no zombie.
+//! A program wogan talks to in JSON lines (an executor of roads, a controller of the car): started
+//! with `sh -c "exec COMMAND"` (so that killing it kills the program, not a shell), spoken to one
+//! line at a time, read by a thread so that a deadline and a stop flag are honoured while it works,
+//! its stderr's last lines kept for the message when it fails. Dropping it writes its farewell
+//! line, closes its input, and kills and reaps it if it does not end at once: no zombie.
 
-use super::protocol::Request;
+use serde::Serialize;
 use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
@@ -20,53 +21,55 @@ const STDERR_TAIL_LINES: usize = 20;
 const STDERR_LINE_CHARS: usize = 400;
 /// How often a wait for an answer looks at the stop flag.
 const STOP_POLL: Duration = Duration::from_millis(50);
-/// How long an executor told `bye` has to end before it is killed.
+/// How long a program told farewell has to end before it is killed.
 const GRACE: Duration = Duration::from_millis(500);
 
-/// Why a road got no answer.
+/// Why a request got no answer.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Fault {
-    /// The executor could not be started.
+    /// The program could not be started.
     Start(String),
     /// It closed its output or ended.
     Ended,
     /// It gave no answer within the deadline.
     Timeout(Duration),
-    /// It wrote more than one line for one road.
+    /// It wrote more than one line for one request.
     ExtraLines,
-    /// Its answer could not be read (too long, not UTF-8) or the road not written.
+    /// Its answer could not be read (too long, not UTF-8) or the request not written.
     Io(String),
-    /// The run is being stopped (Ctrl-C): the road is not reported.
+    /// The caller is stopping (Ctrl-C): the request is abandoned.
     Stopped,
 }
 
 impl std::fmt::Display for Fault {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Fault::Start(e) => write!(f, "the executor could not be started: {e}"),
-            Fault::Ended => write!(
-                f,
-                "the executor ended (or closed its output) before answering"
-            ),
-            Fault::Timeout(t) => write!(f, "no answer within {:.1} s", t.as_secs_f64()),
-            Fault::ExtraLines => write!(f, "the executor wrote more than one line for one road"),
+            Fault::Start(e) => write!(f, "it could not be started: {e}"),
+            Fault::Ended => write!(f, "it ended (or closed its output) before answering"),
+            Fault::Timeout(t) => write!(f, "no answer within {:.3} s", t.as_secs_f64()),
+            Fault::ExtraLines => write!(f, "it wrote more than one line for one request"),
             Fault::Io(e) => write!(f, "{e}"),
             Fault::Stopped => write!(f, "stopped"),
         }
     }
 }
 
-/// A running executor.
-pub struct ExecutorProcess {
+/// A running program.
+pub struct ChildProcess {
     child: Child,
     stdin: Option<ChildStdin>,
     answers: Receiver<Result<String, String>>,
     stderr_tail: Arc<Mutex<VecDeque<String>>>,
+    farewell: Option<Vec<u8>>,
 }
 
-impl ExecutorProcess {
-    /// Starts `command` and writes it `hello`.
-    pub fn start(command: &str, hello: &Request) -> Result<Self, Fault> {
+impl ChildProcess {
+    /// Starts `command`, writes it `hello`, and remembers `farewell` for when it is dropped.
+    pub fn start<H: Serialize, F: Serialize>(
+        command: &str,
+        hello: &H,
+        farewell: &F,
+    ) -> Result<Self, Fault> {
         let mut child = Command::new("sh")
             .arg("-c")
             .arg(format!("exec {command}"))
@@ -123,27 +126,31 @@ impl ExecutorProcess {
             stdin,
             answers,
             stderr_tail,
+            farewell: Some(line_of(farewell)?),
         };
         process.send(hello)?;
         Ok(process)
     }
 
-    /// Writes one request line.
-    fn send(&mut self, request: &Request) -> Result<(), Fault> {
+    /// Writes one line that is not answered.
+    pub fn send<T: Serialize>(&mut self, message: &T) -> Result<(), Fault> {
+        let line = line_of(message)?;
+        self.write(&line)
+    }
+
+    fn write(&mut self, line: &[u8]) -> Result<(), Fault> {
         let stdin = self.stdin.as_mut().ok_or(Fault::Ended)?;
-        let mut line = serde_json::to_vec(request).map_err(|e| Fault::Io(e.to_string()))?;
-        line.push(b'\n');
         stdin
-            .write_all(&line)
+            .write_all(line)
             .and_then(|()| stdin.flush())
             .map_err(|_| Fault::Ended)
     }
 
-    /// Sends `road` and waits for its one answer line, at most `timeout`, giving up when `stop`
-    /// is set.
-    pub fn answer(
+    /// Sends `request` and waits for its one answer line, at most `timeout`, giving up when
+    /// `stop` is set.
+    pub fn answer<T: Serialize>(
         &mut self,
-        road: &Request,
+        request: &T,
         timeout: Duration,
         stop: &AtomicBool,
     ) -> Result<String, Fault> {
@@ -151,7 +158,7 @@ impl ExecutorProcess {
         if self.answers.try_recv().is_ok() {
             return Err(Fault::ExtraLines);
         }
-        self.send(road)?;
+        self.send(request)?;
         let deadline = Instant::now() + timeout;
         loop {
             if stop.load(Ordering::SeqCst) {
@@ -171,7 +178,7 @@ impl ExecutorProcess {
         }
     }
 
-    /// The last lines the executor wrote to stderr, joined (empty when none).
+    /// The last lines the program wrote to stderr, joined (empty when none).
     pub fn stderr_tail(&self) -> String {
         // The stderr thread may still be reading what the executor wrote as it failed.
         std::thread::sleep(Duration::from_millis(20));
@@ -180,10 +187,19 @@ impl ExecutorProcess {
     }
 }
 
-impl Drop for ExecutorProcess {
+/// `message` as one JSON line.
+fn line_of<T: Serialize>(message: &T) -> Result<Vec<u8>, Fault> {
+    let mut line = serde_json::to_vec(message).map_err(|e| Fault::Io(e.to_string()))?;
+    line.push(b'\n');
+    Ok(line)
+}
+
+impl Drop for ChildProcess {
     fn drop(&mut self) {
-        let _ = self.send(&Request::Bye);
-        // Closing its input is the executor's sign to end.
+        if let Some(farewell) = self.farewell.take() {
+            let _ = self.write(&farewell);
+        }
+        // Closing its input is the program's sign to end.
         self.stdin = None;
         let deadline = Instant::now() + GRACE;
         while Instant::now() < deadline {
