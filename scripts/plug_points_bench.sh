@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# What a plug point costs (issue 36): the same 300-test search (beamng-ai-proxy, seed 1) with
-# wogan's own simulator and with `wogan simulate` as its external executor (the protocol's whole
-# round trip: a JSON line out, the drive, a JSON line back), wall seconds, medians of 3, and the
-# round trip's cost per road. Lines for docs/results.md:
+# What a plug point costs (issue 36), wall seconds, medians of 3. Lines for docs/results.md:
+# - the executor: the same 300-test search (beamng-ai-proxy, seed 1) with wogan's own simulator and
+#   with `wogan simulate` as its external executor (a JSON line out, the drive, a line back);
+# - the controller: the first 100 reference roads driven by beamng-ai-proxy and by
+#   examples/controllers/pure_pursuit.py through the controller protocol (a step line out and a
+#   command back at 20 Hz): steps per second and the cost of a whole road.
 #
 #   scripts/plug_points_bench.sh | tee target/bench-output/plug-points.txt
 set -euo pipefail
@@ -29,3 +31,19 @@ b=$(printf '%s\n' "${outside[@]}" | median)
 same=$(cmp -s <(jq -c 'select(.type=="test") | [.outcome,.max_bolp]' "$work/own.1.jsonl") \
   <(jq -c 'select(.type=="test") | [.outcome,.max_bolp]' "$work/executor.1.jsonl") && echo yes || echo no)
 echo "wogan run --max-tests 300 (beamng-ai-proxy): $a s wall with its own simulator, $b s with --executor cmd:\"wogan simulate\" ($(awk -v a="$a" -v b="$b" 'BEGIN {printf "%.2f", (b - a) / 300 * 1000}') ms more per road: the executor protocol's round trip); the same tests and outcomes: $same"
+
+roads=$work/roads.jsonl
+head -n 100 tests/reference/roads.jsonl > "$roads"
+controller="cmd:python3 $(pwd)/examples/controllers/pure_pursuit.py"
+builtin=() piped=()
+for i in 1 2 3; do
+  builtin+=("$(wall "$wogan" simulate --oracle beamng-ai-proxy "$roads")")
+  start=$(date +%s.%N)
+  "$wogan" simulate --oracle "$controller" "$roads" > "$work/controller.$i.jsonl"
+  end=$(date +%s.%N)
+  piped+=("$(awk -v a="$start" -v b="$end" 'BEGIN {print b - a}')")
+done
+c=$(printf '%s\n' "${builtin[@]}" | median)
+d=$(printf '%s\n' "${piped[@]}" | median)
+steps=$(jq -s '[.[].sim_time_s] | add * 20 | floor' "$work/controller.1.jsonl")
+echo "wogan simulate of 100 reference roads: $c s wall with beamng-ai-proxy, $d s with the pure-pursuit controller process ($steps control steps through the protocol: $(awk -v s="$steps" -v d="$d" 'BEGIN {printf "%.0f", s / d}') steps per second; $(awk -v c="$c" 'BEGIN {printf "%.1f", c * 10}') ms against $(awk -v d="$d" 'BEGIN {printf "%.1f", d * 10}') ms per road)"

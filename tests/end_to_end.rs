@@ -3,6 +3,7 @@
 
 mod ci;
 mod common;
+mod controller;
 mod executor;
 mod export;
 mod fuzz;

@@ -147,7 +147,7 @@ fn an_executor_that_always_fails_stops_the_run_with_what_was_done_written() {
             "--quiet",
             "--executor",
             &executor,
-            "--executor-max-errors",
+            "--max-failed-drives",
             "3",
             "--out",
             arg(&out),

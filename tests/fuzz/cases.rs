@@ -279,7 +279,7 @@ fn executor_options(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case, wild
     case.opt(rng, "--executor-timeout", timeout);
     if chance(rng, 0.5) {
         let errors = int_arg(rng, wild, 1, 1000, (1, 5));
-        case.opt(rng, "--executor-max-errors", errors);
+        case.opt(rng, "--max-failed-drives", errors);
     }
 }
 
@@ -415,6 +415,27 @@ pub(super) fn driver_options(
     case: &mut Case,
     wild: bool,
 ) -> DriverKind {
+    if chance(rng, 0.1) {
+        // A controller process that answers garbage: `cat` of mutated lines, one per step.
+        let replies = input_lines(rng, corpus, &mut case.notes);
+        case.file("controller.txt", replies);
+        let oracle = if wild && chance(rng, 0.3) {
+            *pick(
+                rng,
+                &[
+                    "cmd:",
+                    "cmd:exit 1",
+                    "cmd:no-such-program-here",
+                    "cmd:sleep 0",
+                ],
+            )
+        } else {
+            "cmd:cat controller.txt"
+        };
+        case.opt(rng, "--oracle", oracle);
+        // Its settings are checked like any driver's (the built-in ones' fuzz the rest).
+        return DriverKind::BeamNgAiProxy;
+    }
     let oracle = if chance(rng, 0.6) {
         DriverKind::BeamNgAiProxy
     } else {

@@ -1,10 +1,10 @@
 //! Options that choose and configure the driver under test, shared by `simulate` and `run`.
 
 use crate::config_file::{self, ConfigFile};
-use crate::value_parsers::{driver_kind, map_size_m, positive_kmh, share};
+use crate::value_parsers::{map_size_m, oracle, positive_kmh, share, Oracle};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use road_sim::driver::{BeamNgAiParams, Dave2DriverParams};
+use road_sim::driver::{BeamNgAiParams, ControllerConfig, ControllerParams, Dave2DriverParams};
 use road_sim::vision::Dave2Weights;
 use road_sim::{DriverConfig, DriverKind, SimConfig};
 use std::path::{Path, PathBuf};
@@ -16,9 +16,10 @@ pub const DEFAULT_MAP_SIZE_M: f64 = 200.0;
 /// The driver under test and how it is judged.
 #[derive(Debug, Clone, Args)]
 pub struct DriverOptions {
-    /// The driver under test: beamng-ai-proxy or dave2-proxy.
-    #[arg(long = "oracle", value_name = "ORACLE", default_value = "beamng-ai-proxy", value_parser = driver_kind)]
-    pub kind: DriverKind,
+    /// The driver under test: beamng-ai-proxy, dave2-proxy, or cmd:"COMMAND" for a controller
+    /// process (the controller protocol, docs/reference.md; taken only from this command line).
+    #[arg(long = "oracle", value_name = "ORACLE", default_value = "beamng-ai-proxy", value_parser = oracle)]
+    pub oracle: Oracle,
     /// DAVE-2 weights written by `wogan train-driver` [default: the built-in ones].
     #[arg(long, value_name = "FILE")]
     pub driver_weights: Option<PathBuf>,
@@ -35,17 +36,28 @@ pub struct DriverOptions {
 }
 
 impl DriverOptions {
+    /// Which driver is under test.
+    pub fn kind(&self) -> DriverKind {
+        self.oracle.kind
+    }
+
     /// The chosen driver with its default tuning, `patch` (a config file's `driver` section)
     /// laid over it, and the weights of `--driver-weights` if given.
     pub fn driver_config(&self, patch: Option<&serde_json::Value>) -> Result<DriverConfig> {
-        driver_config(self.kind, patch, self.driver_weights.as_deref(), "driver")
+        driver_config(
+            self.kind(),
+            self.oracle.command.as_deref(),
+            patch,
+            self.driver_weights.as_deref(),
+            "driver",
+        )
     }
 
     /// The simulation settings and the driver these options and `file` ask for: the driver's
     /// preset and default tuning, the file's `sim` and `driver` sections laid over them, then
     /// the command line's options; or names the first setting that cannot be used.
     pub fn resolve(&self, file: &ConfigFile) -> Result<(SimConfig, DriverConfig)> {
-        let preset = self.kind.preset().sim_config();
+        let preset = self.kind().preset().sim_config();
         let sim = self.apply_to(config_file::lay_over(file.sim.as_ref(), preset, "sim")?);
         sim.validate().context("invalid simulation settings")?;
         let driver = self.driver_config(file.driver.as_ref())?;
@@ -61,7 +73,7 @@ impl DriverOptions {
         config: Option<&Path>,
         command: &str,
     ) -> Result<(SimConfig, DriverConfig)> {
-        let file = ConfigFile::read_for(config, self.kind)?;
+        let file = ConfigFile::read_for(config, self.kind())?;
         if file.search.is_some() {
             bail!(
                 "config file: \"search\" is for `wogan run`; `wogan {command}` reads \"sim\" and \"driver\""
@@ -81,9 +93,12 @@ impl DriverOptions {
 }
 
 /// Driver `kind` with its default tuning, `patch` (named `section` in errors) laid over it, and
-/// the DAVE-2 weights of the file `weights` if given (for `dave2-proxy` only).
+/// the DAVE-2 weights of the file `weights` if given (for `dave2-proxy` only). A controller's
+/// `command` comes only from the command line: with none (a run file's header), a controller is
+/// refused, naming the command the file records, and nothing is started.
 pub fn driver_config(
     kind: DriverKind,
+    command: Option<&str>,
     patch: Option<&serde_json::Value>,
     weights: Option<&Path>,
     section: &str,
@@ -92,7 +107,34 @@ pub fn driver_config(
     if weights.is_some() && kind != DriverKind::Dave2Proxy {
         bail!("--driver-weights is for dave2-proxy, not {kind}");
     }
-    let mut driver = DriverConfig::default_for(kind);
+    let Some(mut driver) = DriverConfig::built_in(kind) else {
+        let Some(command) = command else {
+            let recorded = patch
+                .and_then(|p| p.get("command"))
+                .and_then(|c| c.as_str())
+                .unwrap_or("?");
+            bail!(
+                "the driver is a controller process ({recorded}); wogan never starts a command a \
+                 file names: give it yourself, e.g. --oracle cmd:\"{recorded}\""
+            );
+        };
+        let mut patch = patch.cloned();
+        if let Some(serde_json::Value::Object(fields)) = &mut patch {
+            // A config file may tune a controller, never name what is run.
+            if fields.contains_key("command") {
+                bail!("{section}.command: a controller's command is taken only from --oracle cmd:\"...\"");
+            }
+        }
+        let params = config_file::lay_over::<ControllerParams>(
+            patch.as_ref(),
+            ControllerParams::default(),
+            section,
+        )?;
+        return Ok(DriverConfig::Controller(ControllerConfig::new(
+            command.to_owned(),
+            params,
+        )));
+    };
     match &mut driver {
         DriverConfig::BeamNgAiProxy(params) => {
             *params = config_file::lay_over::<BeamNgAiParams>(patch, *params, section)?;
@@ -106,6 +148,7 @@ pub fn driver_config(
                 *built_in = weights;
             }
         }
+        DriverConfig::Controller(_) => {}
     }
     Ok(driver)
 }

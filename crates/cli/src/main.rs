@@ -10,6 +10,7 @@ mod commands;
 mod config_file;
 mod driver_options;
 mod executor;
+mod failure_streak;
 mod generator_file;
 mod interrupt;
 mod json_lines;

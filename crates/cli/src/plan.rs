@@ -104,9 +104,10 @@ pub struct RunArgs {
     /// Longest wait for an executor's answer to one road.
     #[arg(long, default_value = "10m", value_parser = humantime::parse_duration, requires = "executor")]
     pub executor_timeout: Duration,
-    /// Roads an executor may fail in a row before the run stops.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000), requires = "executor")]
-    pub executor_max_errors: u32,
+    /// Drives a program outside wogan (a controller, an executor) may fail in a row before the
+    /// run stops.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub max_failed_drives: u32,
 }
 
 /// `--executor`: the command after `cmd:`.
@@ -175,6 +176,8 @@ pub struct RunPlan {
     pub generator: Option<GeneratorPayload>,
     /// The external program that drives the roads (`--executor`), if any.
     pub executor: Option<ExecutorSettings>,
+    /// Drives a controller or executor may fail in a row before the run stops.
+    pub max_failed_drives: usize,
 }
 
 /// The settings that determine a run's results, as its header's `config` shows them.
@@ -256,7 +259,7 @@ impl RunPlan {
                 }
             }
         }
-        let kind = args.driver.kind;
+        let kind = args.driver.kind();
         let preset = kind.preset();
         let file = ConfigFile::read_for(args.config.as_deref(), kind)?;
         let (sim, driver) = args.driver.resolve(&file)?;
@@ -389,8 +392,8 @@ impl RunPlan {
             executor: args.executor.clone().map(|command| ExecutorSettings {
                 command,
                 timeout: args.executor_timeout,
-                max_consecutive_errors: args.executor_max_errors as usize,
             }),
+            max_failed_drives: args.max_failed_drives as usize,
         })
     }
 

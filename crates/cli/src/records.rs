@@ -146,9 +146,6 @@ pub struct RoadExecution {
     /// The simulator's report.
     #[serde(flatten)]
     pub result: SimResult,
-    /// Why the drive ended in `ERROR` when an external executor drove it (`run --executor`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub error: Option<String>,
 }
 
 /// One training round of WOGAN (the losses of its last steps). A reference implementation's run

@@ -3,6 +3,7 @@
 //! and executing a test drives the chosen driver along the road and scores the drive with the
 //! chosen fitness. This adapter is the one place that knows both the search and the roads.
 
+use crate::failure_streak::FailureStreak;
 use crate::records::RoadExecution;
 use road_sim::road::curvature::MAX_CURVATURE_PER_M;
 use road_sim::{
@@ -28,6 +29,8 @@ pub struct RoadSut<'a> {
     pub fitness: FitnessKind,
     /// Set by Ctrl-C or SIGTERM: a drive in progress is cut short and not reported.
     pub stop: &'a AtomicBool,
+    /// Drives a controller process failed in a row (none counted when `None`).
+    pub streak: Option<&'a FailureStreak>,
 }
 
 impl RoadSut<'_> {
@@ -62,6 +65,14 @@ impl Sut for RoadSut<'_> {
         if result.reason == Some(StopReason::Interrupted) {
             return None;
         }
+        if let Some(streak) = self.streak {
+            match (&result.reason, &result.error) {
+                (Some(StopReason::DriverFailed), Some(error)) => {
+                    streak.failed("the controller", error, self.stop)
+                }
+                _ => streak.passed(),
+            }
+        }
         Some(Execution {
             fitness: self.fitness.of(&result, &self.sim),
             // The competition charges a test's simulated time to its execution budget.
@@ -71,7 +82,6 @@ impl Sut for RoadSut<'_> {
                 road_points,
                 interpolated: road.interpolated,
                 result,
-                error: None,
             },
         })
     }

@@ -80,11 +80,36 @@ pub fn fraction(text: &str) -> Result<f64, String> {
     }
 }
 
-/// A driver by name (`--oracle`).
-pub fn driver_kind(name: &str) -> Result<DriverKind, String> {
-    DriverKind::from_name(name).ok_or_else(|| {
+/// The driver under test as `--oracle` names it: a built-in driver, or `cmd:COMMAND`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Oracle {
+    /// Which driver.
+    pub kind: DriverKind,
+    /// A controller's command, as typed after `cmd:`.
+    pub command: Option<String>,
+}
+
+/// A driver by name, or a controller process as `cmd:COMMAND` (`--oracle`).
+pub fn oracle(name: &str) -> Result<Oracle, String> {
+    if let Some(command) = name.strip_prefix("cmd:") {
+        if command.trim().is_empty() {
+            return Err("cmd: names no command".into());
+        }
+        return Ok(Oracle {
+            kind: DriverKind::Controller,
+            command: Some(command.to_owned()),
+        });
+    }
+    let kind = DriverKind::from_name(name).ok_or_else(|| {
         let known: Vec<&str> = DriverKind::ALL.iter().map(|k| k.name()).collect();
-        format!("unknown oracle {name:?}; known: {}", known.join(", "))
+        format!(
+            "unknown oracle {name:?}; known: {}, or cmd:\"COMMAND\" for a controller process",
+            known.join(", ")
+        )
+    })?;
+    Ok(Oracle {
+        kind,
+        command: None,
     })
 }
 
@@ -114,10 +139,18 @@ mod tests {
         assert!(distance_along_m("2.5").is_ok());
         assert!(share("0").is_ok() && share("1").is_ok() && share("1.5").is_err());
         assert!(fraction("0").is_err() && fraction("0.2").is_ok());
-        assert_eq!(driver_kind("dave2-proxy"), Ok(DriverKind::Dave2Proxy));
-        assert!(driver_kind("dave3")
-            .unwrap_err()
-            .contains("beamng-ai-proxy"));
+        assert_eq!(
+            oracle("dave2-proxy").map(|o| o.kind),
+            Ok(DriverKind::Dave2Proxy)
+        );
+        assert!(oracle("dave3").unwrap_err().contains("beamng-ai-proxy"));
+        let controller = oracle("cmd:python3 keep.py --gain 2").unwrap();
+        assert_eq!(controller.kind, DriverKind::Controller);
+        assert_eq!(
+            controller.command.as_deref(),
+            Some("python3 keep.py --gain 2")
+        );
+        assert!(oracle("cmd: ").is_err());
         assert_eq!(fitness_kind("bolp-scaled"), Ok(FitnessKind::BolpScaled));
         assert!(fitness_kind("speed").is_err());
     }

@@ -63,6 +63,12 @@ pub struct ChildProcess {
     farewell: Option<Vec<u8>>,
 }
 
+impl std::fmt::Debug for ChildProcess {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "ChildProcess({})", self.child.id())
+    }
+}
+
 impl ChildProcess {
     /// Starts `command`, writes it `hello`, and remembers `farewell` for when it is dropped.
     pub fn start<H: Serialize, F: Serialize>(

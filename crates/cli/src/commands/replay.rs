@@ -235,7 +235,7 @@ fn write_junit(
         })
         .collect();
     let properties = [
-        ("driver", args.driver.kind.name().to_owned()),
+        ("driver", args.driver.kind().name().to_owned()),
         ("wogan", crate::records::VERSION.to_owned()),
     ];
     junit::write_report(path, "wogan replay", &properties, &cases)

@@ -3,6 +3,7 @@
 
 use super::Status;
 use crate::executor::ExecutorSut;
+use crate::failure_streak::FailureStreak;
 use crate::generator_file::{self, GeneratorPayload};
 use crate::interrupt::stop_flag;
 use crate::json_lines::JsonLinesWriter;
@@ -31,6 +32,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
     let mut out = JsonLinesWriter::create(plan.out.as_ref())?;
     out.write_header(plan.header())?;
     let settings = &plan.settings;
+    let streak = FailureStreak::new(plan.max_failed_drives);
     let sut = RoadSut {
         roads: settings.road,
         curvature_points: settings.curvature_points as usize,
@@ -39,6 +41,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
         sim: settings.sim,
         fitness: plan.fitness,
         stop,
+        streak: Some(&streak),
     };
     let progress = Progress::new(&plan.budget, plan.quiet);
     let mut failing_profiles: Vec<Vec<f64>> = Vec::new();
@@ -111,6 +114,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
             plan.settings.sim,
             plan.fitness,
             settings.clone(),
+            &streak,
             stop,
         )
     });
@@ -118,7 +122,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
         Some(executor) => search(executor, plan, stop, &mut on_event),
         None => search(&sut, plan, stop, &mut on_event),
     };
-    let gave_up = executor.as_ref().and_then(ExecutorSut::gave_up);
+    let gave_up = streak.gave_up();
     // The executors end (and are reaped) before the summary is written.
     drop(executor);
     progress.finish();

@@ -61,6 +61,7 @@ pub fn run(args: &SampleArgs) -> Result<Status> {
         sim: SimConfig::default(),
         fitness: FitnessKind::Bolp,
         stop: &stop,
+        streak: None,
     };
     // Ctrl-C ends the drawing: the roads drawn so far are written, ranked.
     let interrupt = stop_flag()?;

@@ -2,10 +2,11 @@
 //! (the competition's validator), driving is the executor's. Executors are started as needed, one
 //! per worker, and reused; one that fails a road (ended, late, garbage, an answer out of range) is
 //! killed, the road ends as `ERROR` with the reason and the tail of its stderr, and the next road
-//! starts a new one. After `max_consecutive_errors` failed roads in a row the executor gives up:
-//! the run is stopped, with every finished test written.
+//! starts a new one. After too many failed roads in a row ([`FailureStreak`]) the run is stopped,
+//! with every finished test written.
 
 use super::protocol::{parse_answer, Answer, Request, PROTOCOL, VERSION};
+use crate::failure_streak::FailureStreak;
 use crate::records::RoadExecution;
 use crate::road_sut::RoadSut;
 use road_sim::child_process::{ChildProcess, Fault};
@@ -23,8 +24,6 @@ pub struct ExecutorSettings {
     pub command: String,
     /// Longest wait for one road's answer.
     pub timeout: Duration,
-    /// Failed roads in a row after which the run stops.
-    pub max_consecutive_errors: usize,
 }
 
 /// Roads from test vectors, driven by an executor.
@@ -39,10 +38,10 @@ pub struct ExecutorSut<'a> {
     pub settings: ExecutorSettings,
     /// Set by Ctrl-C, and by the executor giving up.
     pub stop: &'a AtomicBool,
+    /// Failed roads in a row.
+    pub streak: &'a FailureStreak,
     idle: Mutex<Vec<ChildProcess>>,
-    consecutive_errors: AtomicUsize,
     roads_sent: AtomicUsize,
-    gave_up: Mutex<Option<String>>,
 }
 
 impl<'a> ExecutorSut<'a> {
@@ -52,6 +51,7 @@ impl<'a> ExecutorSut<'a> {
         sim: SimConfig,
         fitness: FitnessKind,
         settings: ExecutorSettings,
+        streak: &'a FailureStreak,
         stop: &'a AtomicBool,
     ) -> Self {
         Self {
@@ -60,19 +60,10 @@ impl<'a> ExecutorSut<'a> {
             fitness,
             settings,
             stop,
+            streak,
             idle: Mutex::new(Vec::new()),
-            consecutive_errors: AtomicUsize::new(0),
             roads_sent: AtomicUsize::new(0),
-            gave_up: Mutex::new(None),
         }
-    }
-
-    /// Why the executor gave up and stopped the run, if it did.
-    pub fn gave_up(&self) -> Option<String> {
-        self.gave_up
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .clone()
     }
 
     fn hello(&self) -> Request<'static> {
@@ -123,18 +114,6 @@ impl<'a> ExecutorSut<'a> {
             }
         }
     }
-
-    /// Counts a failed road; gives up (and stops the run) after too many in a row.
-    fn failed(&self, reason: &str) {
-        let in_a_row = self.consecutive_errors.fetch_add(1, Ordering::SeqCst) + 1;
-        if in_a_row >= self.settings.max_consecutive_errors {
-            let mut gave_up = self.gave_up.lock().unwrap_or_else(|p| p.into_inner());
-            gave_up.get_or_insert_with(|| {
-                format!("the executor failed {in_a_row} roads in a row; the last: {reason}")
-            });
-            self.stop.store(true, Ordering::SeqCst);
-        }
-    }
 }
 
 /// A drive as the executor reported it: its figures, and NaN for what it does not report.
@@ -154,6 +133,7 @@ fn result_of(outcome: Outcome, max_bolp: f64, sim_time_s: f64, road: &Road, ms: 
         mean_lp: f64::NAN,
         max_lp: f64::NAN,
         oob: None,
+        error: None,
         trace: None,
     }
 }
@@ -178,9 +158,9 @@ impl Sut for ExecutorSut<'_> {
         let t0 = Instant::now();
         let asked = self.ask(id, &road_points);
         let ms = t0.elapsed().as_secs_f64() * 1e3;
-        let (result, error) = match asked {
+        let result = match asked {
             Ok(answer) => {
-                self.consecutive_errors.store(0, Ordering::SeqCst);
+                self.streak.passed();
                 let mut result = result_of(
                     answer.outcome,
                     answer.max_bolp,
@@ -196,15 +176,14 @@ impl Sut for ExecutorSut<'_> {
                     side,
                     sbst_side: None,
                 });
-                (result, None)
+                result
             }
             Err(None) => return None,
             Err(Some(reason)) => {
-                self.failed(&reason);
-                (
-                    result_of(Outcome::Error, f64::NAN, 0.0, &road, ms),
-                    Some(reason),
-                )
+                self.streak.failed("the executor", &reason, self.stop);
+                let mut result = result_of(Outcome::Error, f64::NAN, 0.0, &road, ms);
+                result.error = Some(reason);
+                result
             }
         };
         Some(Execution {
@@ -215,7 +194,6 @@ impl Sut for ExecutorSut<'_> {
                 road_points,
                 interpolated: road.interpolated,
                 result,
-                error,
             },
         })
     }

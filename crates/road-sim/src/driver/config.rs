@@ -2,6 +2,7 @@
 //! limit and fitness it is judged by unless told otherwise) and its tuning.
 
 use super::beamng_ai::{self, BeamNgAiParams, BeamNgAiProxy};
+use super::controller::{self, ControllerConfig, ControllerParams};
 use super::dave2::{self, Dave2Driver, Dave2DriverParams};
 use super::preset::DriverPreset;
 use crate::setting_checks::SettingsError;
@@ -20,6 +21,9 @@ pub enum DriverKind {
     /// DAVE-2 steering from a front camera (`dave2-proxy`).
     #[serde(rename = "dave2-proxy")]
     Dave2Proxy,
+    /// A lane keeper in another process, `--oracle cmd:"COMMAND"` (`controller`).
+    #[serde(rename = "controller")]
+    Controller,
 }
 
 /// A driver name that is not one of [`DriverKind::ALL`].
@@ -31,7 +35,7 @@ pub struct UnknownDriver {
 }
 
 impl DriverKind {
-    /// All known drivers.
+    /// The built-in drivers, known by name (a controller is given by its command).
     pub const ALL: [DriverKind; 2] = [DriverKind::BeamNgAiProxy, DriverKind::Dave2Proxy];
 
     /// The driver's name.
@@ -39,10 +43,11 @@ impl DriverKind {
         match self {
             DriverKind::BeamNgAiProxy => "beamng-ai-proxy",
             DriverKind::Dave2Proxy => "dave2-proxy",
+            DriverKind::Controller => "controller",
         }
     }
 
-    /// The driver of that name, if any.
+    /// The built-in driver of that name, if any.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|k| k.name() == name)
     }
@@ -52,6 +57,7 @@ impl DriverKind {
         match self {
             DriverKind::BeamNgAiProxy => beamng_ai::PRESET,
             DriverKind::Dave2Proxy => dave2::PRESET,
+            DriverKind::Controller => controller::PRESET,
         }
     }
 }
@@ -85,18 +91,33 @@ pub enum DriverConfig {
         /// The network's weights.
         weights: Arc<Dave2Weights>,
     },
+    /// A controller process, its command given on the command line.
+    Controller(ControllerConfig),
 }
 
 impl DriverConfig {
-    /// The driver `kind` with its default tuning (and the built-in DAVE-2 weights).
-    pub fn default_for(kind: DriverKind) -> Self {
+    /// The built-in driver `kind` with its default tuning (and the built-in DAVE-2 weights);
+    /// `None` for a controller, which needs its command.
+    pub fn built_in(kind: DriverKind) -> Option<Self> {
         match kind {
-            DriverKind::BeamNgAiProxy => Self::BeamNgAiProxy(BeamNgAiParams::default()),
-            DriverKind::Dave2Proxy => Self::Dave2Proxy {
+            DriverKind::BeamNgAiProxy => Some(Self::BeamNgAiProxy(BeamNgAiParams::default())),
+            DriverKind::Dave2Proxy => Some(Self::Dave2Proxy {
                 params: Dave2DriverParams::default(),
                 weights: dave2::embedded_weights(),
-            },
+            }),
+            DriverKind::Controller => None,
         }
+    }
+
+    /// The built-in driver `kind` with its default tuning; a controller of no command (which
+    /// fails its first drive, saying so) for [`DriverKind::Controller`].
+    pub fn default_for(kind: DriverKind) -> Self {
+        Self::built_in(kind).unwrap_or_else(|| {
+            Self::Controller(ControllerConfig::new(
+                String::new(),
+                ControllerParams::default(),
+            ))
+        })
     }
 
     /// Which driver this is.
@@ -104,6 +125,7 @@ impl DriverConfig {
         match self {
             Self::BeamNgAiProxy(_) => DriverKind::BeamNgAiProxy,
             Self::Dave2Proxy { .. } => DriverKind::Dave2Proxy,
+            Self::Controller(_) => DriverKind::Controller,
         }
     }
 
@@ -112,6 +134,7 @@ impl DriverConfig {
         match self {
             Self::BeamNgAiProxy(params) => params.validate(),
             Self::Dave2Proxy { params, .. } => params.validate(),
+            Self::Controller(config) => config.params.validate(),
         }
     }
 
@@ -120,6 +143,7 @@ impl DriverConfig {
         match self {
             Self::BeamNgAiProxy(params) => Box::new(BeamNgAiProxy::new(*params)),
             Self::Dave2Proxy { params, weights } => Box::new(Dave2Driver::new(weights, *params)),
+            Self::Controller(config) => Box::new(config.build()),
         }
     }
 }
@@ -129,6 +153,20 @@ impl Serialize for DriverConfig {
         match self {
             Self::BeamNgAiProxy(params) => params.serialize(serializer),
             Self::Dave2Proxy { params, .. } => params.serialize(serializer),
+            // The command is recorded, never read back to start anything.
+            Self::Controller(config) => {
+                #[derive(Serialize)]
+                struct Recorded<'a> {
+                    command: &'a str,
+                    #[serde(flatten)]
+                    params: &'a ControllerParams,
+                }
+                Recorded {
+                    command: &config.command,
+                    params: &config.params,
+                }
+                .serialize(serializer)
+            }
         }
     }
 }

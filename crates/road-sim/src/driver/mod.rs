@@ -1,11 +1,13 @@
-//! The drivers under test: `beamng-ai-proxy` (a geometric lane keeper) and `dave2-proxy` (DAVE-2
-//! steering from the camera), each with its preset and tuning.
+//! The drivers under test: `beamng-ai-proxy` (a geometric lane keeper), `dave2-proxy` (DAVE-2
+//! steering from the camera) and a controller process (`--oracle cmd:...`), each with its preset
+//! and tuning.
 //!
 //! The interface a driver fills, [`Driver`], belongs to the episode that calls it
 //! ([`crate::sim`]); it is re-exported here so that a new driver finds everything in one place.
 
 pub mod beamng_ai;
 mod config;
+pub mod controller;
 pub mod dave2;
 mod pedals;
 mod preset;
@@ -13,6 +15,7 @@ mod preset;
 pub use crate::sim::{Driver, Observation};
 pub use beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
 pub use config::{DriverConfig, DriverKind, UnknownDriver};
+pub use controller::{ControllerConfig, ControllerParams};
 pub use dave2::{Dave2Driver, Dave2DriverParams};
 pub use pedals::pedals;
 pub use preset::DriverPreset;

@@ -32,8 +32,13 @@ pub trait Driver {
     fn control_hz(&self) -> f64;
     /// Prepares for a drive on `road` with a car of `vehicle`'s build and a speed limit.
     fn reset(&mut self, road: &Road, vehicle: &VehicleParams, speed_limit_mps: f64);
-    /// The command for the next control period.
+    /// The command for the next control period. A driver that cannot give one (a controller
+    /// process that failed) returns a non-finite command and says why in [`Driver::failure`].
     fn act(&mut self, observation: &Observation<'_>) -> Command;
+    /// Why the driver failed, when it did; the drive then ends as `ERROR` with this reason.
+    fn failure(&self) -> Option<String> {
+        None
+    }
 }
 
 /// Centre-line segments (about 1 m each) before the road's end within which the car must
@@ -109,7 +114,11 @@ pub fn simulate(
                 && command.throttle.is_finite()
                 && command.brake.is_finite())
             {
-                break (Outcome::Error, Some(StopReason::NonFiniteCommand));
+                let why = match driver.failure() {
+                    Some(_) => StopReason::DriverFailed,
+                    None => StopReason::NonFiniteCommand,
+                };
+                break (Outcome::Error, Some(why));
             }
         }
         if stop.is_some_and(|stop| stop.load(Ordering::Relaxed)) {
@@ -215,6 +224,7 @@ pub fn simulate(
             max_lp
         },
         oob: lane_exit,
+        error: driver.failure(),
         trace: trace.then_some(samples),
     }
 }

@@ -44,6 +44,9 @@ pub enum StopReason {
     SimTimeLimit,
     /// The caller's stop flag cut the drive short.
     Interrupted,
+    /// The driver failed (a controller process ended, answered late or wrongly): the result's
+    /// `error` says how.
+    DriverFailed,
 }
 
 impl StopReason {
@@ -57,6 +60,7 @@ impl StopReason {
             StopReason::NonFiniteCommand => "non_finite_command",
             StopReason::SimTimeLimit => "sim_time_limit",
             StopReason::Interrupted => "interrupted",
+            StopReason::DriverFailed => "driver_failed",
         }
     }
 }
@@ -185,6 +189,10 @@ pub struct SimResult {
     /// Where the car first left its lane, when it did (absent in records written before it was).
     #[serde(default)]
     pub oob: Option<LaneExit>,
+    /// Why the drive ended in `ERROR` when something outside wogan failed (a controller process,
+    /// an executor): what happened and the last lines it wrote to stderr.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub error: Option<String>,
     /// The samples, when a trace was asked for.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub trace: Option<Vec<Sample>>,
@@ -211,6 +219,7 @@ mod tests {
             StopReason::NonFiniteCommand,
             StopReason::SimTimeLimit,
             StopReason::Interrupted,
+            StopReason::DriverFailed,
         ] {
             assert_eq!(
                 spelled(serde_json::to_value(reason).unwrap()),
@@ -266,6 +275,7 @@ mod tests {
             mean_lp: 1.5,
             max_lp: 2.0,
             oob: None,
+            error: None,
             trace: None,
         };
         let json = serde_json::to_value(&result).unwrap();
