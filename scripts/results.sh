@@ -319,39 +319,30 @@ def generator_section():
 
 
 # ---------------------------------------------------------------------------------------------
-# What the CI commands cost (issue 35's bars), from scripts/ci_bench.sh's saved output.
+# What the CI commands and the plug points cost (issues 35 and 36), from their bench scripts'
+# saved output, each line as the script printed it.
+def saved_bench_section(heading, script, name):
+    out()
+    out(f"## {heading}")
+    out()
+    path = f"target/bench-output/{name}.txt"
+    if not os.path.exists(path):
+        out(f"Not measured yet: `{script} | tee {path}`.")
+        return
+    when = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc)
+    out(f"`{script}` ({when:%Y-%m-%d}), each line its own output:")
+    out()
+    for line in open(path):
+        if line.startswith("wogan "):
+            out(f"- {line.strip()}")
+
+
 def ci_section():
-    out()
-    out("## CI commands")
-    out()
-    path = "target/bench-output/ci.txt"
-    if not os.path.exists(path):
-        out("Not measured yet: `scripts/ci_bench.sh | tee target/bench-output/ci.txt`.")
-        return
-    when = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc)
-    out(f"`scripts/ci_bench.sh` ({when:%Y-%m-%d}), each line its own output:")
-    out()
-    for line in open(path):
-        if line.startswith("wogan "):
-            out(f"- {line.strip()}")
+    saved_bench_section("CI commands", "scripts/ci_bench.sh", "ci")
 
 
-# ---------------------------------------------------------------------------------------------
-# What the plug points cost (issue 36), from scripts/plug_points_bench.sh's saved output.
 def plug_points_section():
-    out()
-    out("## Plug points")
-    out()
-    path = "target/bench-output/plug-points.txt"
-    if not os.path.exists(path):
-        out("Not measured yet: `scripts/plug_points_bench.sh | tee target/bench-output/plug-points.txt`.")
-        return
-    when = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc)
-    out(f"`scripts/plug_points_bench.sh` ({when:%Y-%m-%d}), each line its own output:")
-    out()
-    for line in open(path):
-        if line.startswith("wogan "):
-            out(f"- {line.strip()}")
+    saved_bench_section("Plug points", "scripts/plug_points_bench.sh", "plug-points")
 
 
 # ---------------------------------------------------------------------------------------------

@@ -280,20 +280,6 @@ fn no_file_starts_an_executor() {
 #[test]
 fn the_sbst_pipeline_generator_drives_wogans_search_through_the_pipelines_executor() {
     // examples/sbst2022 against the pipeline's interface (a stand-in) and wogan simulate as the
-    // pipeline's executor; skipped where python3 is missing.
-    let repo = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-    let Ok(output) = Command::new("python3")
-        .arg(format!("{repo}/tests/python/check_sbst_generator.py"))
-        .args(["--wogan", env!("CARGO_BIN_EXE_wogan")])
-        .output()
-    else {
-        eprintln!("python3 is not available: the pipeline generator was not run");
-        return;
-    };
-    assert!(
-        output.status.success(),
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
+    // pipeline's executor.
+    crate::common::python_check("check_sbst_generator.py");
 }

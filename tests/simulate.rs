@@ -267,21 +267,6 @@ fn execution_data_in_the_answer_is_the_drive_in_the_pipelines_layout() {
 
 #[test]
 fn the_example_pipeline_executor_drives_through_one_child() {
-    // The example executor for the competition's pipeline, against a stand-in of its interface:
-    // where python3 is missing (it is not a build dependency) there is nothing to run it with.
-    let repo = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-    let Ok(output) = std::process::Command::new("python3")
-        .arg(format!("{repo}/tests/python/check_example_executor.py"))
-        .args(["--wogan", env!("CARGO_BIN_EXE_wogan")])
-        .output()
-    else {
-        eprintln!("python3 is not available: the example executor was not run");
-        return;
-    };
-    assert!(
-        output.status.success(),
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
+    // The example executor for the competition's pipeline, against a stand-in of its interface.
+    crate::common::python_check("check_example_executor.py");
 }

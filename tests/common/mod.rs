@@ -97,3 +97,23 @@ pub fn spawn(args: &[&str]) -> Child {
         .spawn()
         .expect("wogan starts")
 }
+
+/// Runs `tests/python/SCRIPT --wogan BINARY` and asserts that it passed; where python3 is missing
+/// (it is not a build dependency) it says so and checks nothing.
+pub fn python_check(script: &str) {
+    let repo = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let Ok(output) = Command::new("python3")
+        .arg(format!("{repo}/tests/python/{script}"))
+        .args(["--wogan", env!("CARGO_BIN_EXE_wogan")])
+        .output()
+    else {
+        eprintln!("python3 is not available: {script} was not run");
+        return;
+    };
+    assert!(
+        output.status.success(),
+        "{script}: {}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
