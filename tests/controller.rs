@@ -3,9 +3,12 @@
 //! range fails that drive as ERROR and is restarted for the next (tests/python/faulty_controller.py;
 //! skipped, saying so, where python3 is missing); no file starts a controller.
 
-use crate::common::{records, scratch_dir, wogan, write_file};
+use crate::common::{records, scratch_dir, spawn, watchdog, wogan, write_file};
 use serde_json::Value;
+use std::io::Read;
 use std::process::Command;
+use std::sync::atomic::Ordering;
+use std::time::Duration;
 
 /// The repository's root.
 const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
@@ -175,4 +178,40 @@ fn a_controller_that_always_fails_stops_the_run_and_no_file_starts_one() {
         "",
     );
     assert!(!canary.exists(), "a file started a process");
+}
+
+#[test]
+fn sigterm_ends_a_drive_whose_controller_hangs_at_once_and_leaves_no_process() {
+    if !python() {
+        return;
+    }
+    let dir = scratch_dir("controller-sigterm");
+    // A deadline of ten minutes: only the stop may end the wait.
+    let config = write_file(&dir, "slow.json", r#"{"driver": {"step_timeout_s": 600}}"#);
+    let marker = dir.to_str().unwrap().to_owned();
+    let oracle = format!("cmd:python3 {REPO}/tests/python/faulty_controller.py hang 2 5 {marker}");
+    let roads = write_file(&dir, "roads.jsonl", &reference_roads(3));
+    let mut child = spawn(&["simulate", "--oracle", &oracle, "--config", &config, &roads]);
+    let done = watchdog(&child, Duration::from_secs(120));
+    // The first road is answered; the second hangs at its fifth step.
+    let mut stdout = child.stdout.take().unwrap();
+    let mut first = [0u8; 1];
+    stdout.read_exact(&mut first).unwrap();
+    Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let mut rest = String::new();
+    stdout.read_to_string(&mut rest).unwrap();
+    let status = child.wait().unwrap();
+    done.store(true, Ordering::SeqCst);
+    assert_eq!(status.code(), Some(130));
+    assert_eq!(
+        rest.lines().count(),
+        1,
+        "only the first road answered: {rest}"
+    );
+    if let Ok(left) = Command::new("pgrep").args(["-f", &marker]).output() {
+        assert!(left.stdout.is_empty(), "controllers left running");
+    }
 }

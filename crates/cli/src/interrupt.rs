@@ -9,7 +9,11 @@ use std::sync::Arc;
 pub fn stop_flag() -> Result<Arc<AtomicBool>> {
     let stop = Arc::new(AtomicBool::new(false));
     let handler_stop = Arc::clone(&stop);
-    ctrlc::set_handler(move || handler_stop.store(true, Ordering::SeqCst))
-        .context("cannot install the Ctrl-C handler")?;
+    ctrlc::set_handler(move || {
+        handler_stop.store(true, Ordering::SeqCst);
+        // A controller or executor being waited for is given up at once, not at its deadline.
+        road_sim::child_process::stop_all();
+    })
+    .context("cannot install the Ctrl-C handler")?;
     Ok(stop)
 }

@@ -24,6 +24,14 @@ const STOP_POLL: Duration = Duration::from_millis(50);
 /// How long a program told farewell has to end before it is killed.
 const GRACE: Duration = Duration::from_millis(500);
 
+/// Set once the process is being stopped (Ctrl-C): every wait for an answer ends at once.
+static STOPPING: AtomicBool = AtomicBool::new(false);
+
+/// Ends every wait for an answer, in every child, now and from now on (the process is stopping).
+pub fn stop_all() {
+    STOPPING.store(true, Ordering::SeqCst);
+}
+
 /// Why a request got no answer.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Fault {
@@ -167,7 +175,7 @@ impl ChildProcess {
         self.send(request)?;
         let deadline = Instant::now() + timeout;
         loop {
-            if stop.load(Ordering::SeqCst) {
+            if stop.load(Ordering::SeqCst) || STOPPING.load(Ordering::SeqCst) {
                 return Err(Fault::Stopped);
             }
             let left = deadline.saturating_duration_since(Instant::now());

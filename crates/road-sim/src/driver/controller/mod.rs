@@ -9,7 +9,7 @@
 pub mod protocol;
 
 use super::preset::DriverPreset;
-use crate::child_process::ChildProcess;
+use crate::child_process::{ChildProcess, Fault};
 use crate::road::{polyline, Point, Road};
 use crate::setting_checks::{first_problem, SettingsError};
 use crate::sim::{Command, Driver, FitnessKind, Observation, VehicleParams};
@@ -137,7 +137,8 @@ pub struct ControllerDriver {
     camera: Option<(Camera, Frame, Option<RoadScene>)>,
 }
 
-/// Never set: a controller's wait ends by its deadline (a second by default), not by a flag.
+/// Never set: a controller's wait ends by its deadline, or at once when the process is stopping
+/// ([`crate::child_process::stop_all`]).
 static NEVER: AtomicBool = AtomicBool::new(false);
 
 impl ControllerDriver {
@@ -282,6 +283,14 @@ impl Driver for ControllerDriver {
             .map(|p| p.answer(&step, timeout, &NEVER));
         let reply = match answered {
             Some(Ok(line)) => parse_reply(&line),
+            // The process is stopping (Ctrl-C): brake; the drive is cut short, not failed.
+            Some(Err(Fault::Stopped)) => {
+                return Command {
+                    steering_rad: 0.0,
+                    throttle: 0.0,
+                    brake: 1.0,
+                }
+            }
             Some(Err(fault)) => Err(fault.to_string()),
             None => Err("not running".to_owned()),
         };
