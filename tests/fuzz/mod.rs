@@ -246,6 +246,15 @@ impl Target {
 fn fuzz_sample() {
     let report = fuzz(&Settings::sample(), pinned_cases());
     assert_eq!(report.failing(), 0, "{report}");
+    // Inputs that reach the commands' work, not only their refusals (export once refused all).
+    for target in [Target::Export, Target::Replay, Target::Sample] {
+        let exported = report.tallies.get(&target).map_or(0, |t| t.exit_0);
+        assert!(
+            exported > 0,
+            "no {} case got past its input checks:\n{report}",
+            target.name()
+        );
+    }
 }
 
 /// The development-time campaign (`scripts/fuzz_campaign.sh`), set by the `FUZZ_*` variables.
