@@ -44,14 +44,20 @@ declare -A options=(
   [random]="random"
   [mutants]="wogan --fitness bolp --target-decay 0.95 --mutation-share 0.25"
   [decay995]="wogan --fitness bolp --target-decay 0.995 --mutation-share 0"
+  [jobs2]="wogan ${paper[*]} --jobs 2"
+  [jobs4]="wogan ${paper[*]} --jobs 4"
+  [jobs4-restart]="wogan ${paper[*]} --jobs 4 --round-acceptance restart"
 )
-sets=${SETS:-paper distance distance-matched random mutants decay995}
+sets=${SETS:-paper distance distance-matched random mutants decay995 jobs2 jobs4 jobs4-restart}
 comparisons=(
   "paper-vs-random paper.wogan random.random"
   "distance-vs-bolp distance.wogan paper.wogan"
   "matched-vs-distance distance-matched.wogan distance.wogan"
   "mutants-vs-paper mutants.wogan paper.wogan"
   "decay995-vs-paper decay995.wogan paper.wogan"
+  "jobs2-vs-paper jobs2.wogan paper.wogan"
+  "jobs4-vs-paper jobs4.wogan paper.wogan"
+  "jobs4restart-vs-paper jobs4-restart.wogan paper.wogan"
 )
 done_set() { [ -f "$runs/$1.$(echo "$seeds" | awk '{print $NF}').jsonl" ]; }
 

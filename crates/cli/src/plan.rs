@@ -48,9 +48,15 @@ pub struct RunArgs {
     /// Write the JSON lines to FILE instead of standard output.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Tests simulated at once where they are independent (the random phase).
+    /// Tests simulated at once: random tests N at a time, and WOGAN's in rounds of up to N
+    /// chosen tests (1 is the paper's WOGAN; the same seed and N give the same run).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
     pub jobs: u32,
+    /// With --jobs above 1, how WOGAN's acceptance target carries over between the tests of a
+    /// round: continue (from where the last choice left it) or restart (from 1, as a test alone)
+    /// [default: continue].
+    #[arg(long, value_parser = crate::value_parsers::round_acceptance)]
+    pub round_acceptance: Option<wogan_core::RoundAcceptance>,
     /// What the search maximises: bolp, bolp-scaled or distance [default: bolp, the paper's].
     #[arg(long, value_parser = fitness_kind)]
     pub fitness: Option<FitnessKind>,
@@ -94,7 +100,7 @@ pub struct RunArgs {
     /// Choose every test with the generator and analyzer saved in FILE (`--save-generator`), as
     /// the trained WOGAN chooses: no random phase, no training. Its roads' settings and WOGAN's
     /// settings are the file's.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance"])]
     pub generator: Option<PathBuf>,
     /// Drive each road with an external program instead of wogan's simulator: `cmd:COMMAND`
     /// (run with `sh -c`; one per worker), speaking the executor protocol (docs/reference.md).
@@ -286,6 +292,7 @@ impl RunPlan {
             let wogan_only = [
                 ("--mutation-share", args.mutation_share.is_some()),
                 ("--target-decay", args.target_decay.is_some()),
+                ("--round-acceptance", args.round_acceptance.is_some()),
                 ("--save-generator", args.save_generator.is_some()),
                 ("--generator", args.generator.is_some()),
             ];
@@ -298,6 +305,9 @@ impl RunPlan {
         }
         if let Some(decay) = args.target_decay {
             search.wogan.target_decay = decay;
+        }
+        if let Some(rule) = args.round_acceptance {
+            search.wogan.round_acceptance = rule;
         }
         search.validate().context("invalid search settings")?;
         let sbst = match (args.generation_budget, args.execution_budget) {

@@ -157,7 +157,7 @@ fn read_record(run: &mut RunFile, text: &str) -> Result<(), String> {
 
 /// WOGAN's settings for choosing tests, which change what a run finds as much as the fitness does:
 /// the acceptance decay (to 4 decimals, so a matched default and the same value typed by hand
-/// group together) and the mutation share when there are mutants.
+/// group together), the mutation share when there are mutants, and rounds of several tests.
 fn acceptance(algorithm: &str, config: &Value) -> String {
     let setting = |name: &str| {
         config
@@ -170,10 +170,20 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
     };
     let decay = format!("{decay:.4}");
     let decay = decay.trim_end_matches('0').trim_end_matches('.');
-    match setting("mutation/share") {
+    let mut text = match setting("mutation/share") {
         Some(share) if share > 0.0 => format!("decay {decay}, mutants {share}"),
         _ => format!("decay {decay}"),
+    };
+    // Rounds of several tests change which tests are chosen (one job is the paper's loop).
+    let jobs = config.pointer("/search/jobs").and_then(Value::as_u64);
+    if let Some(jobs) = jobs.filter(|&j| j > 1) {
+        text.push_str(&format!(", rounds of {jobs}"));
+        let rule = config.pointer("/search/wogan/round_acceptance");
+        if rule.and_then(Value::as_str) == Some("restart") {
+            text.push_str(" restarted");
+        }
     }
+    text
 }
 
 /// Reads the header's grouping fields. The configuration is read by path, so that runs written
@@ -282,6 +292,23 @@ mod tests {
         let old = key_of("wogan", "{}");
         assert_eq!(old.acceptance, "");
         assert!(old.label().contains("fitness distance / oob"));
+    }
+
+    #[test]
+    fn wogan_runs_in_rounds_group_apart_from_one_test_at_a_time() {
+        let key_of = |search: &str| {
+            let header: Header = serde_json::from_str(&format!(
+                r#"{{"version":"0.1.0","algorithm":"wogan","oracle":"dave2-proxy","fitness":"bolp","config":{{"search":{search}}}}}"#
+            ))
+            .unwrap();
+            read_header(&header).key.acceptance
+        };
+        let one = r#"{"jobs":1,"wogan":{"target_decay":0.95}}"#;
+        assert_eq!(key_of(one), "decay 0.95");
+        let two = r#"{"jobs":2,"wogan":{"target_decay":0.95,"round_acceptance":"continue"}}"#;
+        assert_eq!(key_of(two), "decay 0.95, rounds of 2");
+        let four = r#"{"jobs":4,"wogan":{"target_decay":0.95,"round_acceptance":"restart"}}"#;
+        assert_eq!(key_of(four), "decay 0.95, rounds of 4 restarted");
     }
 
     #[test]

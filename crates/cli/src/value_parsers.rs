@@ -155,3 +155,13 @@ mod tests {
         assert!(fitness_kind("speed").is_err());
     }
 }
+
+/// How WOGAN's acceptance target carries over within a round of tests chosen at once:
+/// `continue` or `restart`.
+pub fn round_acceptance(name: &str) -> Result<wogan_core::RoundAcceptance, String> {
+    match name {
+        "continue" => Ok(wogan_core::RoundAcceptance::Continue),
+        "restart" => Ok(wogan_core::RoundAcceptance::Restart),
+        _ => Err(format!("expected continue or restart, got {name:?}")),
+    }
+}

@@ -60,5 +60,64 @@ fn iteration(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, iteration);
+/// A model holding `n` tests of the synthetic SUT, after its first (longer) training round.
+fn filled_model(
+    n: usize,
+    cfg: &WoganConfig,
+    rng: &mut ChaCha20Rng,
+) -> (WoganModel, Sampler<'static>) {
+    let sut = Synthetic;
+    let sampler = Sampler::new(sut.dim(), SamplerConfig::default());
+    let mut model = WoganModel::new(sut.dim(), cfg, rng);
+    for _ in 0..n {
+        let t = sampler.sample(rng);
+        let f = sut.execute(&t).expect("not stopped").fitness;
+        model.add(&t, f);
+    }
+    model.train(0.0, rng).expect("first training");
+    (model, sampler)
+}
+
+/// Where an iteration's time goes, from the public API: a training round alone; the same without
+/// analyzer epochs (so the analyzer's share is the difference); with one critic step per
+/// generator step instead of 5 (so one critic step is a quarter of the difference); and choosing
+/// one test alone.
+fn iteration_parts(c: &mut Criterion) {
+    let mut group = c.benchmark_group("iteration_parts");
+    group
+        .sample_size(20)
+        .measurement_time(Duration::from_secs(3));
+    let paper = WoganConfig::default();
+    let mut no_analyzer = paper.clone();
+    no_analyzer.later_analyzer_epochs = 0;
+    let mut one_critic_step = paper.clone();
+    one_critic_step.wgan.critic_steps = 1;
+    for &n in &[300usize, 30_000] {
+        for (name, cfg) in [
+            ("train", &paper),
+            ("train_without_analyzer", &no_analyzer),
+            ("train_one_critic_step", &one_critic_step),
+        ] {
+            let mut rng = ChaCha20Rng::seed_from_u64(1);
+            let (mut model, _) = filled_model(n, cfg, &mut rng);
+            group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
+                b.iter(|| black_box(model.train(1.5, &mut rng).expect("training")))
+            });
+        }
+        let mut rng = ChaCha20Rng::seed_from_u64(1);
+        let (model, sampler) = filled_model(n, &paper, &mut rng);
+        group.bench_with_input(BenchmarkId::new("propose", n), &n, |b, _| {
+            b.iter(|| {
+                black_box(
+                    model
+                        .propose(&Synthetic, &sampler, &mut rng)
+                        .expect("proposal"),
+                )
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, iteration, iteration_parts);
 criterion_main!(benches);

@@ -33,7 +33,8 @@ impl Algorithm {
 pub struct RunConfig {
     /// The search algorithm.
     pub algorithm: Algorithm,
-    /// Tests executed at once in random phases (they are independent); results keep id order.
+    /// Tests executed at once: random tests in groups of `jobs`, and in the WOGAN phase rounds
+    /// of up to `jobs` chosen tests; results keep id order. 1 is the paper's WOGAN.
     pub jobs: usize,
     /// The random test sampler.
     pub sampler: SamplerConfig,
@@ -111,6 +112,22 @@ pub struct WoganConfig {
     pub wgan: WganConfig,
     /// Mutants of the best tests among the candidates (an extension; off in the paper).
     pub mutation: MutationConfig,
+    /// How the acceptance target carries over between the tests of one round when several are
+    /// chosen at once (`jobs` > 1); with one test per round both rules are the paper's.
+    pub round_acceptance: RoundAcceptance,
+}
+
+/// How the acceptance target carries over between the tests chosen in one round.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RoundAcceptance {
+    /// Each later test of the round is accepted against the target as the previous choice left
+    /// it (decayed further per candidate): a round costs little more generation than one test.
+    #[default]
+    Continue,
+    /// Each test of the round is chosen as a test alone is, from a target of 1: as selective
+    /// as one test per round, at the cost of ranking as many candidates per test.
+    Restart,
 }
 
 impl Default for WoganConfig {
@@ -134,6 +151,7 @@ impl Default for WoganConfig {
             analyzer: AnalyzerConfig::default(),
             wgan: WganConfig::default(),
             mutation: MutationConfig::default(),
+            round_acceptance: RoundAcceptance::default(),
         }
     }
 }

@@ -108,8 +108,8 @@ mod stgem_parity;
 
 pub use budget::{Budget, SbstBudget, SbstUsage};
 pub use config::{
-    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig, RunConfig,
-    SamplerConfig, WganConfig, WoganConfig,
+    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig,
+    RoundAcceptance, RunConfig, SamplerConfig, WganConfig, WoganConfig,
 };
 pub use error::Error;
 pub use run::{run, run_from_snapshot, run_with_snapshot, Event, Phase, Summary};

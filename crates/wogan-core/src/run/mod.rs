@@ -11,6 +11,7 @@
 //! set, is not learnt from, and ends the run, as the competition's pipeline discards it.
 
 mod events;
+mod execution;
 mod ledger;
 mod random_phase;
 #[cfg(test)]
@@ -30,6 +31,7 @@ use crate::test_sampler::Sampler;
 use crate::wogan::{ModelSnapshot, WoganModel};
 
 pub use events::{Event, Phase, Summary};
+use execution::worker_pool;
 use ledger::RunLedger;
 use random_phase::random_phase;
 use wogan_phase::{wogan_phase, Training};
@@ -87,6 +89,7 @@ pub fn run_from_snapshot<S: Sut + ?Sized>(
         )));
     }
     let model = WoganModel::from_snapshot(snapshot)?;
+    let pool = worker_pool(config)?;
     let mut rng = ChaCha20Rng::seed_from_u64(seed);
     let mut r = RunLedger::start(budget.effective(), stop);
     let go_on = searching(&r);
@@ -98,6 +101,7 @@ pub fn run_from_snapshot<S: Sut + ?Sized>(
         Training::Frozen,
         &sampler,
         &mut rng,
+        pool.as_ref(),
         &mut r,
         on_event,
     )?;
@@ -127,19 +131,7 @@ fn run_inner<S: Sut + ?Sized>(
     if dim == 0 {
         return Err(Error::Config("the SUT's dimension is 0".into()));
     }
-    let pool = if config.jobs > 1 {
-        Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(config.jobs)
-                .build()
-                .map_err(|e| Error::ThreadPool {
-                    jobs: config.jobs,
-                    message: e.to_string(),
-                })?,
-        )
-    } else {
-        None
-    };
+    let pool = worker_pool(config)?;
     let mut rng = ChaCha20Rng::seed_from_u64(seed);
     let mut r = RunLedger::start(budget.effective(), stop);
     let go_on = searching(&r);
@@ -157,6 +149,8 @@ fn run_inner<S: Sut + ?Sized>(
     let mut snapshot = None;
     if config.algorithm == Algorithm::Wogan && !r.should_stop() {
         let mut model = WoganModel::new(dim, &config.wogan, &mut rng);
+        // With more than one job the analyzer trains beside the WGAN (the same numbers).
+        model.set_concurrent_training(config.jobs > 1);
         for (t, f) in &executed_tests {
             model.add(t, *f);
         }
@@ -167,6 +161,7 @@ fn run_inner<S: Sut + ?Sized>(
             Training::Retrain,
             &sampler,
             &mut rng,
+            pool.as_ref(),
             &mut r,
             on_event,
         )?;

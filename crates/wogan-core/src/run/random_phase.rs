@@ -8,15 +8,15 @@
 use std::time::Instant;
 
 use rand_chacha::ChaCha20Rng;
-use rayon::prelude::*;
 use rayon::ThreadPool;
 
 use crate::config::{Algorithm, RunConfig};
 use crate::error::Error;
-use crate::sut::{clamp_fitness, Execution, Sut};
+use crate::sut::{clamp_fitness, Sut};
 use crate::test_sampler::Sampler;
 
 use super::events::{test_event, Choice, Event, Phase};
+use super::execution::execute_all;
 use super::ledger::RunLedger;
 
 /// Executes random valid tests until the run (random search) or its random share (WOGAN) ends.
@@ -62,7 +62,8 @@ pub(super) fn random_phase<S: Sut + ?Sized>(
         let gap_s = r.generation_gap_s();
         let later_s: f64 = sampled.iter().skip(1).map(|s| s.generation_s).sum();
         let t0 = Instant::now();
-        let results = execute_all(sut, &sampled, pool);
+        let tests: Vec<&[f32]> = sampled.iter().map(|s| s.test.as_slice()).collect();
+        let results = execute_all(sut, &tests, pool);
         r.summary.simulation_s += t0.elapsed().as_secs_f64();
         for (i, (s, e)) in sampled.into_iter().zip(results).enumerate() {
             // Cut short by a stop: the loop's next check ends the run.
@@ -135,18 +136,4 @@ fn sample_tests<S: Sut + ?Sized, R: rand::Rng + ?Sized>(
             })
         })
         .collect()
-}
-
-/// Executes tests, in parallel when a pool is given; results are in input order.
-fn execute_all<S: Sut + ?Sized>(
-    sut: &S,
-    tests: &[Sampled],
-    pool: Option<&ThreadPool>,
-) -> Vec<Option<Execution<S::Output>>> {
-    match pool {
-        Some(pool) if tests.len() > 1 => {
-            pool.install(|| tests.par_iter().map(|s| sut.execute(&s.test)).collect())
-        }
-        _ => tests.iter().map(|s| sut.execute(&s.test)).collect(),
-    }
 }

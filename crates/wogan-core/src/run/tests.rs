@@ -401,3 +401,79 @@ fn an_execution_cut_short_by_a_stop_is_not_reported() {
         assert!(summary.stopped_by_signal);
     }
 }
+
+fn trains_of<O>(events: &[Event<O>]) -> usize {
+    events
+        .iter()
+        .filter(|e| matches!(e, Event::Train { .. }))
+        .count()
+}
+
+fn ranked_of(events: &[Event<f32>]) -> usize {
+    events
+        .iter()
+        .map(|e| match e {
+            Event::Test {
+                ranked_candidates, ..
+            } => *ranked_candidates,
+            Event::Train { .. } => 0,
+        })
+        .sum()
+}
+
+#[test]
+fn parallel_wogan_rounds_are_reproducible_and_train_on_the_tests_executed() {
+    let budget = Budget {
+        max_tests: Some(30),
+        wall: None,
+        sbst: None,
+    };
+    // 15 random tests, then 15 WOGAN tests. One job trains before tests 1, 4, 7, 10 and 13 of
+    // the phase. Rounds of 2 (2, 2, ..., 1) bring the count since training to 2, 4 (train), 3
+    // (train), 2, 4 (train), 3 (train), 2: five as well. Rounds of 4 (4, 4, 4, 3): 4 (train),
+    // 5 (train), 6 (train): four, one per round, as a round trains at most once.
+    for (jobs, trains) in [(1, 5), (2, 5), (4, 4)] {
+        let config = RunConfig {
+            jobs,
+            wogan: crate::WoganConfig {
+                init_fraction: 0.5,
+                ..Default::default()
+            },
+            ..RunConfig::default()
+        };
+        let (a, summary) = collect(&config, budget, 9);
+        let (b, _) = collect(&config, budget, 9);
+        assert_eq!(tests_of(&a), tests_of(&b), "jobs {jobs}");
+        assert_eq!(summary.executed, 30, "jobs {jobs}");
+        let t = tests_of(&a);
+        assert!(t.iter().enumerate().all(|(i, x)| x.0 == i + 1));
+        assert_eq!(t.iter().filter(|x| x.1 == Phase::Wogan).count(), 15);
+        assert_eq!(trains_of(&a), trains, "jobs {jobs}");
+    }
+}
+
+#[test]
+fn a_restarted_round_ranks_more_candidates_than_a_continued_one() {
+    let budget = Budget {
+        max_tests: Some(60),
+        wall: None,
+        sbst: None,
+    };
+    let ranked = |round_acceptance| {
+        let config = RunConfig {
+            jobs: 4,
+            wogan: crate::WoganConfig {
+                round_acceptance,
+                ..Default::default()
+            },
+            ..RunConfig::default()
+        };
+        ranked_of(&collect(&config, budget, 3).0)
+    };
+    let continued = ranked(crate::RoundAcceptance::Continue);
+    let restarted = ranked(crate::RoundAcceptance::Restart);
+    assert!(
+        restarted > continued,
+        "restarted {restarted}, continued {continued}"
+    );
+}

@@ -7,6 +7,8 @@
 //! same rule in fitness terms.) The first-ranked of equal predictions wins. A confident analyzer
 //! so executes one of the first candidates; a pessimistic one ranks up to about 180.
 
+use crate::config::RoundAcceptance;
+
 /// Slack in the acceptance test (stgem's), so a saturated prediction cannot stall the rule.
 const ACCEPT_EPS: f64 = 1e-4;
 
@@ -61,6 +63,17 @@ impl Acceptance {
         }
     }
 
+    /// Starts the next choice of a round in which several tests are chosen at once: the best
+    /// and the count start afresh; the target starts afresh too, or, with
+    /// [`RoundAcceptance::Continue`], goes on from where the last choice left it.
+    pub fn next_choice(&mut self, rule: RoundAcceptance) {
+        self.best = f64::NEG_INFINITY;
+        self.ranked = 0;
+        if rule == RoundAcceptance::Restart {
+            self.target = 1.0;
+        }
+    }
+
     /// Valid candidates ranked so far.
     pub fn ranked(&self) -> usize {
         self.ranked
@@ -102,6 +115,25 @@ mod tests {
             }
         );
         assert_eq!((a.ranked(), a.best()), (3, 0.2));
+    }
+
+    #[test]
+    fn a_round_continues_or_restarts_the_target() {
+        // Targets 0.5, 0.25: 0.3 is accepted at the second candidate.
+        let mut a = Acceptance::new(0.5);
+        assert!(!a.rank(0.3).accept);
+        assert!(a.rank(0.2).accept);
+        let mut restarted = a.clone();
+        // Continued, the target goes on to 0.125: 0.2 is accepted at once.
+        a.next_choice(RoundAcceptance::Continue);
+        assert!(a.rank(0.2).accept);
+        assert_eq!((a.ranked(), a.best()), (1, 0.2));
+        // Restarted, the targets are 0.5, 0.25, 0.125 again: 0.2 is accepted at the third.
+        restarted.next_choice(RoundAcceptance::Restart);
+        assert!(!restarted.rank(0.2).accept);
+        assert!(!restarted.rank(0.1).accept);
+        assert!(restarted.rank(0.1).accept);
+        assert_eq!((restarted.ranked(), restarted.best()), (3, 0.2));
     }
 
     #[test]

@@ -65,6 +65,81 @@ pub struct WoganModel {
     /// Generator and analyzer in inference mode (plain device, running batch statistics),
     /// refreshed after each training round rather than per candidate batch.
     inference: Option<(Generator, Analyzer)>,
+    /// Whether the analyzer trains on a second thread beside the WGAN.
+    concurrent_training: bool,
+}
+
+/// The data a training round reads, shared by the threads that train.
+struct TrainingData<'a> {
+    dim: usize,
+    tests: &'a [f32],
+    targets: &'a [f32],
+    device: &'a Device,
+}
+
+impl TrainingData<'_> {
+    /// The tests `idx` as a matrix, one row each.
+    fn rows(&self, idx: &[usize]) -> Tensor<2> {
+        let mut v = Vec::with_capacity(idx.len() * self.dim);
+        for &i in idx {
+            v.extend_from_slice(&self.tests[i * self.dim..(i + 1) * self.dim]);
+        }
+        matrix(v, idx.len(), self.dim, self.device)
+    }
+
+    /// The analyzer's inputs and logit targets for the tests `idx` (`None`: all tests).
+    fn analyzer_batch(&self, idx: Option<&[usize]>) -> (Tensor<2>, Tensor<2>) {
+        match idx {
+            None => {
+                let n = self.targets.len();
+                let x = matrix(self.tests.to_vec(), n, self.dim, self.device);
+                let y = matrix(self.targets.to_vec(), n, 1, self.device);
+                (x, y)
+            }
+            Some(idx) => {
+                let y: Vec<f32> = idx.iter().map(|&i| self.targets[i]).collect();
+                (self.rows(idx), matrix(y, idx.len(), 1, self.device))
+            }
+        }
+    }
+}
+
+/// A round's analyzer steps, in order: all the data as one fixed batch (built once) or the
+/// batches drawn for it; the last step reports the loss.
+struct AnalyzerSteps<'a> {
+    analyzer: &'a mut AnalyzerTrainer,
+    data: &'a TrainingData<'a>,
+    fixed: Option<(Tensor<2>, Tensor<2>)>,
+    left: usize,
+    loss: f64,
+}
+
+impl<'a> AnalyzerSteps<'a> {
+    fn new(analyzer: &'a mut AnalyzerTrainer, data: &'a TrainingData<'a>, steps: usize) -> Self {
+        Self {
+            analyzer,
+            data,
+            fixed: None,
+            left: steps,
+            loss: 0.0,
+        }
+    }
+
+    /// One step on `batch` (`None`: all the data).
+    fn step(&mut self, batch: Option<Vec<usize>>) -> Result<(), Error> {
+        let (x, y) = match batch {
+            Some(idx) => self.data.analyzer_batch(Some(&idx)),
+            None => self
+                .fixed
+                .get_or_insert_with(|| self.data.analyzer_batch(None))
+                .clone(),
+        };
+        self.left = self.left.saturating_sub(1);
+        if let Some(loss) = self.analyzer.step(x, y, self.left == 0)? {
+            self.loss = loss;
+        }
+        Ok(())
+    }
 }
 
 impl WoganModel {
@@ -86,6 +161,7 @@ impl WoganModel {
             bin_of_test: Vec::new(),
             rounds: 0,
             inference: None,
+            concurrent_training: false,
         }
     }
 
@@ -129,25 +205,12 @@ impl WoganModel {
         self.bin_of_test.push(b);
     }
 
-    fn rows(&self, idx: &[usize]) -> Tensor<2> {
-        let mut v = Vec::with_capacity(idx.len() * self.dim);
-        for &i in idx {
-            v.extend_from_slice(&self.tests[i * self.dim..(i + 1) * self.dim]);
-        }
-        matrix(v, idx.len(), self.dim, &self.device)
-    }
-
-    fn analyzer_batch<R: Rng + ?Sized>(&self, rng: &mut R) -> (Tensor<2>, Tensor<2>) {
-        let n = self.len();
-        if n <= self.cfg.analyzer.max_batch {
-            let x = matrix(self.tests.clone(), n, self.dim, &self.device);
-            let y = matrix(self.targets.clone(), n, 1, &self.device);
-            (x, y)
-        } else {
-            let idx = index::sample(rng, n, self.cfg.analyzer.max_batch).into_vec();
-            let y: Vec<f32> = idx.iter().map(|&i| self.targets[i]).collect();
-            (self.rows(&idx), matrix(y, idx.len(), 1, &self.device))
-        }
+    /// Trains the analyzer on a second thread, alongside the WGAN, from the next training round
+    /// on (`false`: one thread, the default). The result is the same bit for bit: the analyzer
+    /// and the WGAN share no weights, and every random draw is still made on the calling thread
+    /// in the reference's order; only the analyzer's arithmetic moves.
+    pub fn set_concurrent_training(&mut self, concurrent: bool) {
+        self.concurrent_training = concurrent;
     }
 
     /// One training round with bin bias `alpha`: analyzer epochs and WGAN epochs interleaved.
@@ -162,13 +225,6 @@ impl WoganModel {
         } else {
             (self.cfg.later_epochs, self.cfg.later_analyzer_epochs)
         };
-        // Small data: one tensor serves every analyzer epoch of the round.
-        let fixed = if self.len() <= self.cfg.analyzer.max_batch {
-            Some(self.analyzer_batch(rng))
-        } else {
-            None
-        };
-        let mut stats = TrainStats::default();
         let n = self.len();
         // As in the reference, the newest tests get their own chance only after the first round.
         let newest_count = if self.rounds == 0 {
@@ -180,29 +236,81 @@ impl WoganModel {
             .rev()
             .map(|i| (i, self.bin_of_test[i]))
             .collect();
-        for _ in 0..epochs {
-            for a in 0..analyzer_epochs {
-                let (x, y) = match &fixed {
-                    Some((x, y)) => (x.clone(), y.clone()),
-                    None => self.analyzer_batch(rng),
-                };
-                if let Some(loss) = self.analyzer.step(x, y, a + 1 == analyzer_epochs)? {
-                    stats.analyzer_loss = loss;
-                }
-            }
+        // The random draws of the round, in the reference's order: per epoch the analyzer's
+        // batches, the WGAN's biased batch, then the WGAN's own draws as it trains.
+        let concurrent = self.concurrent_training;
+        let Self {
+            dim,
+            cfg,
+            device,
+            analyzer,
+            wgan,
+            tests,
+            targets,
+            bins,
+            ..
+        } = self;
+        let data = TrainingData {
+            dim: *dim,
+            tests,
+            targets,
+            device,
+        };
+        let mut stats = TrainStats::default();
+        let mut wgan_epoch = |rng: &mut R, stats: &mut TrainStats| -> Result<(), Error> {
             let idx = biased_batch(
-                &self.bins,
+                bins,
                 &newest,
-                self.cfg.batch_size,
+                cfg.batch_size,
                 alpha,
                 &mut RngDraws(&mut *rng),
             );
-            let real = self.rows(&idx);
-            let l = self.wgan.epoch(real, rng)?;
+            let l = wgan.epoch(data.rows(&idx), rng)?;
             stats.critic_loss = l.critic;
             stats.generator_loss = l.generator;
             stats.wasserstein_estimate = l.wasserstein;
             stats.gradient_penalty = l.penalty;
+            Ok(())
+        };
+        let max_batch = cfg.analyzer.max_batch;
+        let draw =
+            |rng: &mut R| (n > max_batch).then(|| index::sample(rng, n, max_batch).into_vec());
+        // A round's analyzer steps in order; the last reports the loss.
+        let steps = epochs * analyzer_epochs;
+        if concurrent && steps > 0 {
+            let (to_analyzer, batches) = std::sync::mpsc::channel::<Option<Vec<usize>>>();
+            let analyzer_loss = std::thread::scope(|scope| {
+                let worker = scope.spawn(|| {
+                    let mut trainer = AnalyzerSteps::new(analyzer, &data, steps);
+                    for batch in batches {
+                        trainer.step(batch)?;
+                    }
+                    Ok::<_, Error>(trainer.loss)
+                });
+                let mut result = Ok(());
+                for _ in 0..epochs {
+                    for _ in 0..analyzer_epochs {
+                        // A worker that stopped on an error says so when joined.
+                        let _ = to_analyzer.send(draw(rng));
+                    }
+                    result = result.and_then(|()| wgan_epoch(rng, &mut stats));
+                }
+                drop(to_analyzer);
+                let loss = worker
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                result.and(loss)
+            })?;
+            stats.analyzer_loss = analyzer_loss;
+        } else {
+            let mut trainer = AnalyzerSteps::new(analyzer, &data, steps);
+            for _ in 0..epochs {
+                for _ in 0..analyzer_epochs {
+                    trainer.step(draw(rng))?;
+                }
+                wgan_epoch(rng, &mut stats)?;
+            }
+            stats.analyzer_loss = trainer.loss;
         }
         self.rounds += 1;
         self.inference = Some((self.wgan.generator.valid(), self.analyzer.model.valid()));
@@ -224,6 +332,23 @@ impl WoganModel {
         sampler: &Sampler,
         rng: &mut R,
     ) -> Result<Proposal, Error> {
+        self.propose_with(sut, sampler, rng, &mut self.acceptance())
+    }
+
+    /// A fresh acceptance rule with this model's decay, for the first choice of a round.
+    pub(crate) fn acceptance(&self) -> Acceptance {
+        Acceptance::new(self.cfg.target_decay)
+    }
+
+    /// As [`Self::propose`], with the acceptance rule's state given: a round of several choices
+    /// carries it from one to the next ([`Acceptance::next_choice`]).
+    pub(crate) fn propose_with<S: Sut + ?Sized, R: Rng + ?Sized>(
+        &self,
+        sut: &S,
+        sampler: &Sampler,
+        rng: &mut R,
+        acceptance: &mut Acceptance,
+    ) -> Result<Proposal, Error> {
         let (generator, analyzer) = self
             .inference
             .as_ref()
@@ -235,7 +360,6 @@ impl WoganModel {
         } else {
             Vec::new()
         };
-        let mut acceptance = Acceptance::new(self.cfg.target_decay);
         let mut best: Option<(Vec<f32>, bool)> = None;
         let mut invalid = 0usize;
         let mut streak = 0usize;
@@ -340,6 +464,34 @@ mod tests {
                 execution_time_s: 0.0,
                 output: (),
             })
+        }
+    }
+
+    #[test]
+    fn concurrent_training_is_serial_training_bit_for_bit() {
+        // 40 tests fit one analyzer batch; 700 exceed it, so the analyzer's batches are drawn.
+        for n in [40usize, 700] {
+            let train = |concurrent: bool| {
+                let mut rng = ChaCha20Rng::seed_from_u64(11);
+                let sampler = Sampler::new(3, SamplerConfig::default());
+                let mut model = WoganModel::new(3, &WoganConfig::default(), &mut rng);
+                model.set_concurrent_training(concurrent);
+                for _ in 0..n {
+                    let t = sampler.sample(&mut rng);
+                    model.add(&t, f64::from(t[1].abs()));
+                }
+                let first = model.train(0.5, &mut rng).unwrap();
+                let later = model.train(1.5, &mut rng).unwrap();
+                let snapshot = model.snapshot().unwrap();
+                let next: u64 = rand::RngExt::random(&mut rng);
+                (first, later, snapshot, next)
+            };
+            let (serial, concurrent) = (train(false), train(true));
+            assert_eq!(serial.0, concurrent.0, "first round, {n} tests");
+            assert_eq!(serial.1, concurrent.1, "later round, {n} tests");
+            assert!(serial.1.analyzer_loss > 0.0);
+            assert_eq!(serial.2, concurrent.2, "weights, {n} tests");
+            assert_eq!(serial.3, concurrent.3, "the RNG's position, {n} tests");
         }
     }
 
