@@ -38,7 +38,7 @@ fi
 
 # The search settings, as scripts/search_figures.sh names and makes them: TAG ALGORITHM.
 # (The options of each are read back from the run headers, so this list cannot drift silently.)
-export SETTINGS="paper:wogan distance:wogan distance-matched:wogan mutants:wogan decay995:wogan random:random"
+export SETTINGS="paper:wogan distance:wogan distance-matched:wogan mutants:wogan decay995:wogan jobs2:wogan jobs4:wogan jobs4-restart:wogan random:random"
 
 # Which run files are absent. Printed per oracle and setting with the command that makes them,
 # so that a missing run is never silently left out of a median.
@@ -225,6 +225,10 @@ COMPARISONS = [
     ("distance-matched.wogan", "distance.wogan", "distance: matched decay against 0.95"),
     ("mutants.wogan", "paper.wogan", "`--mutation-share 0.25` against the paper's settings"),
     ("decay995.wogan", "paper.wogan", "`--target-decay 0.995` against the paper's settings"),
+    ("jobs2.wogan", "paper.wogan", "`--jobs 2` (rounds of 2 tests) against one test at a time"),
+    ("jobs4.wogan", "paper.wogan", "`--jobs 4` (rounds of 4 tests) against one test at a time"),
+    ("jobs4-restart.wogan", "paper.wogan",
+     "`--jobs 4 --round-acceptance restart` against one test at a time"),
 ]
 # The rows of each comparison shown here (the full table has every measure of the report).
 MEASURES = ("| failures per run ", "| diversity ", "| first failing test", "| closest approach")
@@ -343,6 +347,10 @@ def ci_section():
 
 def plug_points_section():
     saved_bench_section("Plug points", "scripts/plug_points_bench.sh", "plug-points")
+
+
+def every_core_section():
+    saved_bench_section("Every core (`--jobs`)", "scripts/parallel_bench.sh", "parallel")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -524,7 +532,13 @@ BENCHES = [
     ("wogan_iteration/3000", "RAYON_NUM_THREADS=1 cargo bench -p wogan-core --bench iteration"),
     ("wogan_iteration/30000", "RAYON_NUM_THREADS=1 cargo bench -p wogan-core --bench iteration"),
     ("wogan_iteration/100000", "RAYON_NUM_THREADS=1 cargo bench -p wogan-core --bench iteration"),
-]
+] + [(f"{group}/{n}", "RAYON_NUM_THREADS=1 cargo bench -p wogan-core --bench iteration")
+     for group, sizes in [("wogan_iteration_two_threads", [300, 3000, 30000, 100000]),
+                          ("iteration_parts/train", [300, 30000]),
+                          ("iteration_parts/train_without_analyzer", [300, 30000]),
+                          ("iteration_parts/train_one_critic_step", [300, 30000]),
+                          ("iteration_parts/propose", [300, 30000])]
+     for n in sizes]
 
 
 def criterion():
@@ -733,6 +747,7 @@ def sections(bench):
         ("generator", generator_section),
         ("ci", ci_section),
         ("plug-points", plug_points_section),
+        ("every-core", every_core_section),
         ("reference-roads", reference_roads),
         ("long-roads", long_roads_section),
         ("fidelity", fidelity_section),

@@ -90,6 +90,34 @@ fn random_run_of_30_tests() {
 }
 
 #[test]
+fn wogan_in_rounds_of_two_is_reproducible_and_recorded() {
+    let args = ["--max-tests", "30", "--seed", "11", "--jobs", "2"];
+    let (code, first) = run(&args);
+    assert_eq!(code, Some(0));
+    assert_eq!(first[0]["config"]["search"]["jobs"], 2);
+    assert_eq!(
+        first[0]["config"]["search"]["wogan"]["round_acceptance"],
+        "continue"
+    );
+    let (_, again) = run(&args);
+    let deterministic = |records: &[Value]| -> Vec<Value> {
+        of_type(records, "test")
+            .into_iter()
+            .map(deterministic_part)
+            .collect()
+    };
+    assert_eq!(deterministic(&first), deterministic(&again));
+    let tests = of_type(&first, "test");
+    assert_eq!(tests.len(), 30);
+    assert!(tests[6..].iter().all(|t| t["phase"] == "wogan"));
+    // Rounds choose other tests than one at a time does (the random phase is the same).
+    let (_, one_job) = run(&["--max-tests", "30", "--seed", "11"]);
+    let one_job = deterministic(&one_job);
+    assert_eq!(deterministic(&first)[..6], one_job[..6]);
+    assert_ne!(deterministic(&first)[6..], one_job[6..]);
+}
+
+#[test]
 fn wogan_phases_and_training_records() {
     let (_, records) = run(&["--max-tests", "30", "--seed", "2"]);
     let tests = of_type(&records, "test");
@@ -196,6 +224,8 @@ fn bad_options_exit_2() {
         &["--algorithm", "random", "--mutation-share", "0.5"],
         &["--target-decay", "1"],
         &["--algorithm", "random", "--target-decay", "0.99"],
+        &["--round-acceptance", "sometimes"],
+        &["--algorithm", "random", "--round-acceptance", "restart"],
         // The competition's budgets go together, in seconds or as durations, and not with the
         // one real-time budget.
         &["--generation-budget", "3600"],

@@ -1,5 +1,7 @@
 //! One WOGAN iteration (a training round plus choosing one test; no simulation) at growing data
-//! sizes, on a cheap synthetic SUT. Run single-threaded for one-core figures:
+//! sizes, on a cheap synthetic SUT, on one thread and with the analyzer training on a second
+//! thread; and where a round's time goes (`iteration_parts`). Run with one rayon thread so that
+//! the one-thread figures use one core:
 //! `RAYON_NUM_THREADS=1 cargo bench -p wogan-core --bench iteration`.
 
 use std::hint::black_box;
@@ -32,32 +34,32 @@ impl Sut for Synthetic {
 }
 
 fn iteration(c: &mut Criterion) {
-    let mut group = c.benchmark_group("wogan_iteration");
-    group
-        .sample_size(20)
-        .measurement_time(Duration::from_secs(4));
-    for &n in &[300usize, 3_000, 30_000, 100_000] {
-        let mut rng = ChaCha20Rng::seed_from_u64(1);
-        let sut = Synthetic;
-        let sampler = Sampler::new(sut.dim(), SamplerConfig::default());
-        let mut model = WoganModel::new(sut.dim(), &WoganConfig::default(), &mut rng);
-        for _ in 0..n {
-            let t = sampler.sample(&mut rng);
-            let f = sut.execute(&t).expect("not stopped").fitness;
-            model.add(&t, f);
+    // One thread, then the analyzer on a second thread beside the WGAN (as runs with --jobs 2
+    // train): the same numbers, so the two time the same work.
+    for (group_name, concurrent) in [
+        ("wogan_iteration", false),
+        ("wogan_iteration_two_threads", true),
+    ] {
+        let mut group = c.benchmark_group(group_name);
+        group
+            .sample_size(20)
+            .measurement_time(Duration::from_secs(4));
+        for &n in &[300usize, 3_000, 30_000, 100_000] {
+            let mut rng = ChaCha20Rng::seed_from_u64(1);
+            let sut = Synthetic;
+            let (mut model, sampler) = filled_model(n, &WoganConfig::default(), &mut rng);
+            model.set_concurrent_training(concurrent);
+            let alpha = rng.random_range(0.0..3.0);
+            group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+                b.iter(|| {
+                    let stats = model.train(alpha, &mut rng).expect("training");
+                    let p = model.propose(&sut, &sampler, &mut rng).expect("proposal");
+                    black_box((stats, p))
+                })
+            });
         }
-        // The first round is longer (3 x 20 analyzer epochs); iterations are later rounds.
-        model.train(0.0, &mut rng).expect("first training");
-        let alpha = rng.random_range(0.0..3.0);
-        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-            b.iter(|| {
-                let stats = model.train(alpha, &mut rng).expect("training");
-                let p = model.propose(&sut, &sampler, &mut rng).expect("proposal");
-                black_box((stats, p))
-            })
-        });
+        group.finish();
     }
-    group.finish();
 }
 
 /// A model holding `n` tests of the synthetic SUT, after its first (longer) training round.
