@@ -16,6 +16,7 @@
 #   target/criterion/**/new/estimates.json                 cargo bench (commands in the output)
 #   target/results/train-driver.json (optional)            wogan train-driver --seed 1 ... (below)
 #   tests/reference/*.jsonl                                the competition's vectors
+#   target/bench-output/{ci,plug-points,campaigns}.txt     scripts/{ci,plug_points,campaign}_bench.sh
 # What it runs: `wogan report ... --table`, whose tables of run files it includes as they are,
 # and `wogan simulate` / `wogan validate` on the reference roads (about a minute: dave2-proxy
 # renders and infers 300 drives).
@@ -319,8 +320,8 @@ def generator_section():
 
 
 # ---------------------------------------------------------------------------------------------
-# What the CI commands and the plug points cost (issues 35 and 36), from their bench scripts'
-# saved output, each line as the script printed it.
+# What the CI commands, the plug points and a campaign's report cost (issues 35, 36 and 37), from
+# their bench scripts' saved output, each line as the script printed it.
 def saved_bench_section(heading, script, name):
     out()
     out(f"## {heading}")
@@ -343,6 +344,10 @@ def ci_section():
 
 def plug_points_section():
     saved_bench_section("Plug points", "scripts/plug_points_bench.sh", "plug-points")
+
+
+def campaigns_section():
+    saved_bench_section("Campaigns", "scripts/campaign_bench.sh", "campaigns")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -733,6 +738,7 @@ def sections(bench):
         ("generator", generator_section),
         ("ci", ci_section),
         ("plug-points", plug_points_section),
+        ("campaigns", campaigns_section),
         ("reference-roads", reference_roads),
         ("long-roads", long_roads_section),
         ("fidelity", fidelity_section),
