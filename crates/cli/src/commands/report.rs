@@ -18,7 +18,7 @@ pub struct ReportArgs {
     #[arg(value_name = "RUN")]
     pub runs: Vec<PathBuf>,
     /// Also report the runs (files or folders) listed in FILE, one path a line (`-`: standard
-    /// input), for more files than a command line takes.
+    /// input), for more files than a command line takes; with --vs they join group A.
     #[arg(long, value_name = "FILE", conflicts_with = "trace")]
     pub from: Option<PathBuf>,
     /// Compare the RUN files (group A) with these runs (group B), with Mann–Whitney U tests
