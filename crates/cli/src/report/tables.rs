@@ -11,8 +11,8 @@ use anyhow::Result;
 use std::fmt::Write;
 use std::path::PathBuf;
 
-/// The tables of the runs of `a_paths` (and of `b_paths`, compared) and how many problems the
-/// run files had (each said on stderr).
+/// The tables of the runs of `a_paths` (and of `b_paths`, compared) and how many inputs were bad
+/// (problems, each said on stderr, and runs that did not end normally, named under the table).
 pub fn runs_tables(a_paths: &[PathBuf], b_paths: &[PathBuf]) -> Result<(String, usize)> {
     let grouped = group_runs(a_paths, b_paths, Keep::Measures)?;
     // Runs that did not end normally count as they are; the table says which they are.
