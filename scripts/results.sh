@@ -16,6 +16,7 @@
 #   target/criterion/**/new/estimates.json                 cargo bench (commands in the output)
 #   target/results/train-driver.json (optional)            wogan train-driver --seed 1 ... (below)
 #   tests/reference/*.jsonl                                the competition's vectors
+#   target/bench-output/{ci,plug-points,campaigns}.txt     scripts/{ci,plug_points,campaign}_bench.sh
 # What it runs: `wogan report ... --table`, whose tables of run files it includes as they are,
 # and `wogan simulate` / `wogan validate` on the reference roads (about a minute: dave2-proxy
 # renders and infers 300 drives).
@@ -323,8 +324,8 @@ def generator_section():
 
 
 # ---------------------------------------------------------------------------------------------
-# What the CI commands and the plug points cost (issues 35 and 36), from their bench scripts'
-# saved output, each line as the script printed it.
+# What the CI commands, the plug points and a campaign's report cost (issues 35, 36 and 37), from
+# their bench scripts' saved output, each line as the script printed it.
 def saved_bench_section(heading, script, name):
     out()
     out(f"## {heading}")
@@ -351,6 +352,10 @@ def plug_points_section():
 
 def every_core_section():
     saved_bench_section("Every core (`--jobs`)", "scripts/parallel_bench.sh", "parallel")
+
+
+def campaigns_section():
+    saved_bench_section("Campaigns", "scripts/campaign_bench.sh", "campaigns")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -748,6 +753,7 @@ def sections(bench):
         ("ci", ci_section),
         ("plug-points", plug_points_section),
         ("every-core", every_core_section),
+        ("campaigns", campaigns_section),
         ("reference-roads", reference_roads),
         ("long-roads", long_roads_section),
         ("fidelity", fidelity_section),

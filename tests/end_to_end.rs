@@ -1,6 +1,7 @@
 //! End-to-end tests of the `wogan` binary, and the checks of the simulator against the reference
 //! vectors of the competition's pipeline, in one test binary (one link of burn and rapier).
 
+mod campaign;
 mod ci;
 mod common;
 mod controller;

@@ -97,6 +97,22 @@ impl RunFile {
     pub fn failures(&self) -> usize {
         self.tests.iter().filter(|t| t.failed()).count()
     }
+
+    /// Drops the roads (curvature and points) of the tests that did not fail, and of those
+    /// beyond an SBST budget, which no figure or picture of a report uses: only failing roads are
+    /// drawn, measured for diversity and analysed for OOBs. A report of thousands of runs then
+    /// holds a few hundred bytes per passing test instead of its road.
+    pub fn drop_unused_roads(&mut self) {
+        let passing = self.tests.iter_mut().filter(|t| !t.failed());
+        for test in passing.chain(&mut self.beyond_budget) {
+            test.execution.curvature = Vec::new();
+            test.execution.road_points = Vec::new();
+            test.execution.interpolated = Vec::new();
+        }
+        // What a run grew to while it was read is spare room now.
+        self.tests.shrink_to_fit();
+        self.beyond_budget.shrink_to_fit();
+    }
 }
 
 /// Reads a run; `Err` only when the file cannot be opened.
@@ -227,6 +243,7 @@ fn read_header(header: &Header) -> RunHeader {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use road_sim::Outcome;
 
     fn read_text(name: &str, text: &str) -> RunFile {
         let path =
@@ -328,6 +345,33 @@ mod tests {
             key_of("{}").conditions(),
             "driver dave2-proxy, oob ?, ? km/h"
         );
+    }
+
+    #[test]
+    fn only_failing_roads_are_kept_for_a_report() {
+        let mut run = RunFile {
+            path: "run.jsonl".into(),
+            header: None,
+            tests: [Outcome::Pass, Outcome::Fail, Outcome::Error]
+                .iter()
+                .enumerate()
+                .map(|(i, &outcome)| TestRecord::example(i + 1, outcome, 0))
+                .collect(),
+            beyond_budget: vec![TestRecord::example(4, Outcome::Fail, 0)],
+            train_ms: 0.0,
+            summary: None,
+            problems: Vec::new(),
+        };
+        run.drop_unused_roads();
+        let kept: Vec<usize> = run
+            .tests
+            .iter()
+            .chain(&run.beyond_budget)
+            .map(|t| t.execution.road_points.len() + t.execution.curvature.len())
+            .collect();
+        assert_eq!(kept, [0, 3, 0, 0]);
+        assert_eq!(run.failures(), 1);
+        assert_eq!(run.tests[0].execution.result.max_bolp, 0.5);
     }
 
     #[test]

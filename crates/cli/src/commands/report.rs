@@ -13,9 +13,14 @@ use std::path::PathBuf;
 #[derive(Debug, Args)]
 pub struct ReportArgs {
     /// JSON lines of `wogan run` (repetitions, possibly of several configurations; a file given
-    /// twice counts once).
+    /// twice counts once), or folders of them: every `*.jsonl` file at any depth, and a campaign
+    /// task's unfinished `*.jsonl.part`.
     #[arg(value_name = "RUN")]
     pub runs: Vec<PathBuf>,
+    /// Also report the runs (files or folders) listed in FILE, one path a line (`-`: standard
+    /// input), for more files than a command line takes; with --vs they join group A.
+    #[arg(long, value_name = "FILE", conflicts_with = "trace")]
+    pub from: Option<PathBuf>,
     /// Compare the RUN files (group A) with these runs (group B), with Mann–Whitney U tests
     /// (each group must be of one driver, oob tolerance and speed limit).
     #[arg(long, num_args = 1.., value_name = "RUN")]
@@ -34,12 +39,16 @@ pub struct ReportArgs {
 
 /// Runs `wogan report`.
 pub fn run(args: &ReportArgs) -> Result<Status> {
-    if args.trace.is_none() && args.runs.is_empty() {
-        bail!("give RUN files to report on, or --trace FILE");
+    let mut runs = args.runs.clone();
+    if let Some(list) = &args.from {
+        runs.extend(report::listed_paths(list)?);
+    }
+    if args.trace.is_none() && runs.is_empty() {
+        bail!("give RUN files or folders to report on (or --from FILE), or --trace FILE");
     }
     let problems = match (&args.out, &args.trace) {
         (None, _) => {
-            let (tables, problems) = report::runs_tables(&args.runs, &args.vs)?;
+            let (tables, problems) = report::runs_tables(&runs, &args.vs)?;
             let mut stdout = std::io::stdout().lock();
             stdout.write_all(tables.as_bytes())?;
             stdout.flush()?;
@@ -50,7 +59,7 @@ pub fn run(args: &ReportArgs) -> Result<Status> {
                 .with_context(|| format!("cannot create {}", out.display()))?;
             match trace {
                 Some(trace) => report::trace_picture(trace, out)?,
-                None => report::runs_report(&args.runs, &args.vs, out)?,
+                None => report::runs_report(&runs, &args.vs, out)?,
             }
         }
     };

@@ -214,6 +214,12 @@ impl GroupFigures {
     pub fn of(runs: &[&RunFile]) -> Self {
         // Runs are measured apart (the OOB analysis is quadratic in a run's failures).
         let measures: Vec<RunMeasures> = runs.par_iter().map(|r| RunMeasures::of(r)).collect();
+        Self::of_measured(runs, measures)
+    }
+
+    /// Figures of `runs` already measured (`measures[i]` of `runs[i]`, taken as each was read):
+    /// beyond the measures, the figures read only the failing tests of the runs.
+    pub fn of_measured(runs: &[&RunFile], measures: Vec<RunMeasures>) -> Self {
         let column = |measure| values_of(&measures, measure);
         let executed_total: usize = measures.iter().map(|m| m.executed).sum();
         let failed_total: usize = measures.iter().map(|m| m.failures).sum();

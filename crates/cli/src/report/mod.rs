@@ -7,6 +7,7 @@
 //! threshold and speed limit, and a file given twice counts once.
 
 mod group;
+mod inputs;
 mod markdown;
 mod pictures;
 mod plots;
@@ -15,6 +16,7 @@ mod stats;
 mod tables;
 mod trace_plot;
 
+pub use inputs::listed_paths;
 pub use runs_report::runs_report;
 pub use tables::runs_tables;
 pub use trace_plot::trace_picture;

@@ -1,73 +1,153 @@
 //! `wogan report RUN... [--vs RUN...]`: which runs make which group, the checks that a comparison
 //! is like with like, and the report written from the groups.
 
-use super::group::GroupFigures;
+use super::group::{GroupFigures, RunMeasures};
+use super::inputs::{run_inputs, RunInput};
 use super::markdown::{self, GroupSection};
 use super::pictures::draw_group;
 use crate::run_file::{read_run, RunFile, RunKey};
 use anyhow::{bail, Context, Result};
-use std::collections::{BTreeMap, BTreeSet};
+use rayon::prelude::*;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
+
+/// What a report keeps of each run it reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Keep {
+    /// Every test (the roads of failing ones only): what the pictures draw.
+    Tests,
+    /// The run's measures, taken as it is read, and its failing tests: all the tables need, so
+    /// that the tables of thousands of runs hold little more than their failing tests.
+    Measures,
+}
+
+/// A run as read, with its measures when they were taken then.
+type ReadRun = (RunFile, Option<RunMeasures>);
 
 /// Runs read and grouped: by configuration, or the two groups of a comparison.
 pub(super) struct Grouped {
     /// Each group's label and runs (in input order), in the order the report shows them.
     pub groups: Vec<(String, Vec<RunFile>)>,
+    /// Each group's runs' measures, when they were taken as the runs were read ([`Keep`]).
+    measures: Vec<Option<Vec<RunMeasures>>>,
     /// Whether the groups are A and B of a comparison.
     pub compare: bool,
     /// What was wrong with the files (each said on stderr once).
     pub problems: Vec<String>,
 }
 
-/// Reads the runs of `a_paths` and groups them by configuration, or, when `b_paths` is not
-/// empty, makes them group A and the runs of `b_paths` group B. Runs without a header are left
-/// out (a problem says why); a comparison must be like with like.
-pub(super) fn group_runs(a_paths: &[PathBuf], b_paths: &[PathBuf]) -> Result<Grouped> {
-    let (a_paths, b_paths) = (distinct(a_paths), distinct(b_paths));
+impl Grouped {
+    /// How many inputs were bad, which the exit status tells: problems with the files, and runs
+    /// that did not end normally (cut short or interrupted), which count with what they have.
+    pub fn bad_inputs(&self) -> usize {
+        self.problems.len() + self.unfinished_runs()
+    }
+
+    /// Each group's label and figures.
+    pub fn figures(&self) -> Vec<(String, GroupFigures)> {
+        self.groups
+            .iter()
+            .zip(&self.measures)
+            .map(|((label, runs), measures)| {
+                let runs: Vec<&RunFile> = runs.iter().collect();
+                let figures = match measures {
+                    Some(measures) => GroupFigures::of_measured(&runs, measures.clone()),
+                    None => GroupFigures::of(&runs),
+                };
+                (label.clone(), figures)
+            })
+            .collect()
+    }
+
+    /// The runs that did not end normally.
+    fn unfinished_runs(&self) -> usize {
+        self.groups
+            .iter()
+            .flat_map(|(_, runs)| runs)
+            .filter(|r| end_note(r).is_some())
+            .count()
+    }
+}
+
+/// Reads the runs of `a_paths` (files and folders of them) and groups them by configuration, or,
+/// when `b_paths` is not empty, makes them group A and the runs of `b_paths` group B. Runs without
+/// a header are left out (a problem says why); a comparison must be like with like. `keep` says
+/// what is kept of each run.
+pub(super) fn group_runs(a_paths: &[PathBuf], b_paths: &[PathBuf], keep: Keep) -> Result<Grouped> {
+    let (a_paths, b_paths) = (
+        distinct(&run_inputs(a_paths)?),
+        distinct(&run_inputs(b_paths)?),
+    );
     refuse_files_on_both_sides(&a_paths, &b_paths)?;
     let compare = !b_paths.is_empty();
-    let a = read_runs(&a_paths)?;
-    let b = read_runs(&b_paths)?;
-    let problems: Vec<String> = a
-        .iter()
-        .chain(&b)
-        .flat_map(|r| r.problems.iter().cloned())
-        .collect();
+    let mut problems = Vec::new();
+    let a = read_runs(&a_paths, keep, &mut problems)?;
+    let b = read_runs(&b_paths, keep, &mut problems)?;
+    problems.extend(
+        a.iter()
+            .chain(&b)
+            .flat_map(|(r, _)| r.problems.iter().cloned()),
+    );
     for problem in &problems {
         eprintln!("wogan report: {problem}");
     }
-    let usable = |runs: Vec<RunFile>| -> Vec<RunFile> {
-        runs.into_iter().filter(|r| r.header.is_some()).collect()
+    let usable = |runs: Vec<ReadRun>| -> (Vec<RunFile>, Vec<Option<RunMeasures>>) {
+        runs.into_iter().filter(|(r, _)| r.header.is_some()).unzip()
     };
-    let (a, b) = (usable(a), usable(b));
+    let ((a, a_measures), (b, b_measures)) = (usable(a), usable(b));
     let mut groups: Vec<(String, Vec<RunFile>)> = Vec::new();
+    let mut measures: Vec<Vec<Option<RunMeasures>>> = Vec::new();
     if compare {
         like_with_like("A", &a)?;
         like_with_like("B", &b)?;
         note_different_conditions(&a, &b);
         groups.push((format!("A: {}", labels(&a)), a));
         groups.push((format!("B: {}", labels(&b)), b));
+        measures.extend([a_measures, b_measures]);
     } else {
-        let mut by_key: BTreeMap<RunKey, Vec<RunFile>> = BTreeMap::new();
-        for run in a {
+        let mut by_key: BTreeMap<RunKey, Vec<ReadRun>> = BTreeMap::new();
+        for (run, measured) in a.into_iter().zip(a_measures) {
             if let Some(header) = &run.header {
-                by_key.entry(header.key.clone()).or_default().push(run);
+                by_key
+                    .entry(header.key.clone())
+                    .or_default()
+                    .push((run, measured));
             }
         }
-        groups.extend(by_key.into_iter().map(|(key, runs)| (key.label(), runs)));
+        for (key, runs) in by_key {
+            let (runs, measured) = runs.into_iter().unzip();
+            groups.push((key.label(), runs));
+            measures.push(measured);
+        }
     }
-    Ok(Grouped {
+    let grouped = Grouped {
         groups,
+        // Measures for a whole group, or none.
+        measures: measures
+            .into_iter()
+            .map(|m| m.into_iter().collect())
+            .collect(),
         compare,
         problems,
-    })
+    };
+    let unfinished = grouped.unfinished_runs();
+    if unfinished > 0 {
+        let runs: usize = grouped.groups.iter().map(|(_, runs)| runs.len()).sum();
+        eprintln!(
+            "wogan report: {unfinished} of {runs} runs did not end normally; they count with the \
+             tests they have (named in the report)"
+        );
+    }
+    Ok(grouped)
 }
 
 /// Writes `out/report.md` and its pictures for the runs of `a_paths`: grouped by configuration,
 /// or, when `b_paths` is not empty, as two groups compared with Mann–Whitney U tests. Returns how
-/// many problems the run files had (each said on stderr; their good lines are reported).
+/// many inputs were bad (problems, each said on stderr, and runs that did not end normally; what
+/// they hold is reported).
 pub fn runs_report(a_paths: &[PathBuf], b_paths: &[PathBuf], out: &Path) -> Result<usize> {
-    let grouped = group_runs(a_paths, b_paths)?;
+    let grouped = group_runs(a_paths, b_paths, Keep::Tests)?;
+    let bad_inputs = grouped.bad_inputs();
     let mut sections = Vec::new();
     for (index, (label, runs)) in grouped.groups.into_iter().enumerate() {
         let slug = format!("g{}", index + 1);
@@ -89,13 +169,15 @@ pub fn runs_report(a_paths: &[PathBuf], b_paths: &[PathBuf], out: &Path) -> Resu
     let path = out.join("report.md");
     std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
     eprintln!("wogan report: wrote {}", path.display());
-    Ok(grouped.problems.len())
+    Ok(bad_inputs)
 }
 
 /// How a run ended, when not normally.
 pub(super) fn end_note(run: &RunFile) -> Option<&'static str> {
     match &run.summary {
         None => Some("truncated: no summary record"),
+        // A run that gave up is stopped like an interrupted one; the error says why.
+        Some(summary) if summary.error.is_some() => Some("failed part-way (its summary says why)"),
         Some(summary) if summary.interrupted => Some("interrupted"),
         Some(_) => None,
     }
@@ -108,26 +190,32 @@ struct GivenFile {
     path: PathBuf,
     /// The canonical path.
     file: PathBuf,
+    /// Whether it was found in a folder rather than named.
+    found: bool,
 }
 
-/// `paths` with each file once (by canonical path), where first given. Counting a run twice
+/// `inputs` with each file once (by canonical path), where first given. Counting a run twice
 /// would weigh it twice in the figures and in the tests between groups, so a repetition is left
 /// out, and said so on stderr.
-fn distinct(paths: &[PathBuf]) -> Vec<GivenFile> {
+fn distinct(inputs: &[RunInput]) -> Vec<GivenFile> {
     let mut files: Vec<GivenFile> = Vec::new();
-    for path in paths {
+    let mut first_of: HashMap<PathBuf, usize> = HashMap::new();
+    for input in inputs {
+        let path = &input.path;
         let file = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
-        if let Some(first) = files.iter().find(|f| f.file == file) {
+        if let Some(&first) = first_of.get(&file) {
             eprintln!(
                 "wogan report: {} is the same file as {}; it counts once",
                 path.display(),
-                first.path.display()
+                files[first].path.display()
             );
             continue;
         }
+        first_of.insert(file.clone(), files.len());
         files.push(GivenFile {
             path: path.clone(),
             file,
+            found: input.found,
         });
     }
     files
@@ -135,8 +223,9 @@ fn distinct(paths: &[PathBuf]) -> Vec<GivenFile> {
 
 /// Refuses a file given in both groups of a comparison: a run cannot be a sample of both.
 fn refuse_files_on_both_sides(a: &[GivenFile], b: &[GivenFile]) -> Result<()> {
+    let in_a: HashMap<&Path, &GivenFile> = a.iter().map(|f| (f.file.as_path(), f)).collect();
     for in_b in b {
-        if let Some(in_a) = a.iter().find(|f| f.file == in_b.file) {
+        if let Some(in_a) = in_a.get(in_b.file.as_path()) {
             bail!(
                 "{} (group B, after --vs) is the same file as {} (group A): a run cannot be on \
                  both sides of a comparison",
@@ -184,9 +273,34 @@ fn note_different_conditions(a: &[RunFile], b: &[RunFile]) {
     }
 }
 
-/// Reads every file; a file that cannot be opened is bad usage.
-fn read_runs(files: &[GivenFile]) -> Result<Vec<RunFile>> {
-    files.iter().map(|f| read_run(&f.path)).collect()
+/// Reads every file, a few at a time (one per thread: the open-file limit is never near), each
+/// kept as `keep` says, without the roads no figure uses. A named file that cannot be opened is
+/// bad usage; one found in a folder (renamed or removed since it was listed, unreadable) is a
+/// problem in `problems`, and the rest are reported.
+fn read_runs(files: &[GivenFile], keep: Keep, problems: &mut Vec<String>) -> Result<Vec<ReadRun>> {
+    let read: Vec<Result<ReadRun>> = files
+        .par_iter()
+        .map(|f| {
+            let mut run = read_run(&f.path)?;
+            let measures = (keep == Keep::Measures).then(|| {
+                let measures = RunMeasures::of(&run);
+                run.tests.retain(|t| t.failed());
+                run.beyond_budget.clear();
+                measures
+            });
+            run.drop_unused_roads();
+            Ok((run, measures))
+        })
+        .collect();
+    let mut runs = Vec::with_capacity(read.len());
+    for (file, run) in files.iter().zip(read) {
+        match run {
+            Ok(run) => runs.push(run),
+            Err(error) if file.found => problems.push(format!("{error:#}")),
+            Err(error) => return Err(error),
+        }
+    }
+    Ok(runs)
 }
 
 /// The distinct configurations of `runs`, joined.
@@ -202,5 +316,44 @@ fn labels(runs: &[RunFile]) -> String {
         "no runs".to_owned()
     } else {
         keys.join("; ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fixtures() -> Vec<PathBuf> {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures");
+        ["wogan.seed3", "wogan.seed4", "random.seed4", "random.seed5"]
+            .iter()
+            .map(|name| dir.join(format!("{name}.jsonl")))
+            .collect()
+    }
+
+    #[test]
+    fn measures_taken_as_runs_are_read_give_the_figures_of_every_test() {
+        let runs = fixtures();
+        let whole = group_runs(&runs, &[], Keep::Tests).unwrap();
+        let measured = group_runs(&runs, &[], Keep::Measures).unwrap();
+        let (whole, measured) = (whole.figures(), measured.figures());
+        assert_eq!(whole.len(), 2);
+        assert_eq!(format!("{whole:?}"), format!("{measured:?}"));
+        // Compared as two groups, too.
+        let compared = |keep| {
+            let grouped = group_runs(&runs[..2], &runs[2..], keep).unwrap();
+            format!("{:?}", grouped.figures())
+        };
+        assert_eq!(compared(Keep::Tests), compared(Keep::Measures));
+    }
+
+    #[test]
+    fn only_failing_tests_are_kept_with_measures() {
+        let grouped = group_runs(&fixtures()[..1], &[], Keep::Measures).unwrap();
+        let run = &grouped.groups[0].1[0];
+        assert_eq!(run.tests.len(), 5);
+        assert!(run.tests.iter().all(|t| t.failed()));
+        assert_eq!(grouped.figures()[0].1.runs[0].executed, 30);
+        assert_eq!(grouped.bad_inputs(), 0);
     }
 }

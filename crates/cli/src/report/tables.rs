@@ -5,16 +5,16 @@
 
 use super::group::GroupFigures;
 use super::markdown::{comparison_table, COMPETITION};
-use super::runs_report::{end_note, group_runs};
+use super::runs_report::{end_note, group_runs, Keep};
 use super::stats::{mean, median};
 use anyhow::Result;
 use std::fmt::Write;
 use std::path::PathBuf;
 
-/// The tables of the runs of `a_paths` (and of `b_paths`, compared) and how many problems the
-/// run files had (each said on stderr).
+/// The tables of the runs of `a_paths` (and of `b_paths`, compared) and how many inputs were bad
+/// (problems, each said on stderr, and runs that did not end normally, named under the table).
 pub fn runs_tables(a_paths: &[PathBuf], b_paths: &[PathBuf]) -> Result<(String, usize)> {
-    let grouped = group_runs(a_paths, b_paths)?;
+    let grouped = group_runs(a_paths, b_paths, Keep::Measures)?;
     // Runs that did not end normally count as they are; the table says which they are.
     let early: Vec<String> = grouped
         .groups
@@ -22,16 +22,7 @@ pub fn runs_tables(a_paths: &[PathBuf], b_paths: &[PathBuf]) -> Result<(String, 
         .flat_map(|(_, runs)| runs)
         .filter_map(|r| Some(format!("- `{}`: {}\n", r.path.display(), end_note(r)?)))
         .collect();
-    let figures: Vec<(String, GroupFigures)> = grouped
-        .groups
-        .iter()
-        .map(|(label, runs)| {
-            (
-                label.clone(),
-                GroupFigures::of(&runs.iter().collect::<Vec<_>>()),
-            )
-        })
-        .collect();
+    let figures: Vec<(String, GroupFigures)> = grouped.figures();
     let mut text = match figures.as_slice() {
         [(a_label, a), (b_label, b)] if grouped.compare => {
             format!(
@@ -45,7 +36,7 @@ pub fn runs_tables(a_paths: &[PathBuf], b_paths: &[PathBuf]) -> Result<(String, 
         text.push_str("\nRuns that did not end normally (counted as they are):\n\n");
         text.extend(early);
     }
-    Ok((text, grouped.problems.len()))
+    Ok((text, grouped.bad_inputs()))
 }
 
 /// `median (mean)` of `values`, `–` when there are none.
