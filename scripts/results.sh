@@ -39,7 +39,7 @@ fi
 
 # The search settings, as scripts/search_figures.sh names and makes them: TAG ALGORITHM.
 # (The options of each are read back from the run headers, so this list cannot drift silently.)
-export SETTINGS="paper:wogan distance:wogan distance-matched:wogan mutants:wogan decay995:wogan jobs2:wogan jobs4:wogan jobs4-restart:wogan random:random"
+export SETTINGS="paper:wogan distance:wogan distance-matched:wogan mutants:wogan decay995:wogan jobs2:wogan jobs4:wogan jobs2-continue:wogan jobs4-continue:wogan random:random"
 
 # Which run files are absent. Printed per oracle and setting with the command that makes them,
 # so that a missing run is never silently left out of a median.
@@ -228,8 +228,10 @@ COMPARISONS = [
     ("decay995.wogan", "paper.wogan", "`--target-decay 0.995` against the paper's settings"),
     ("jobs2.wogan", "paper.wogan", "`--jobs 2` (rounds of 2 tests) against one test at a time"),
     ("jobs4.wogan", "paper.wogan", "`--jobs 4` (rounds of 4 tests) against one test at a time"),
-    ("jobs4-restart.wogan", "paper.wogan",
-     "`--jobs 4 --round-acceptance restart` against one test at a time"),
+    ("jobs2-continue.wogan", "paper.wogan",
+     "`--jobs 2 --round-acceptance continue` against one test at a time"),
+    ("jobs4-continue.wogan", "paper.wogan",
+     "`--jobs 4 --round-acceptance continue` against one test at a time"),
 ]
 # The rows of each comparison shown here (the full table has every measure of the report).
 MEASURES = ("| failures per run ", "| diversity ", "| first failing test", "| closest approach")

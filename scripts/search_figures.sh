@@ -46,9 +46,10 @@ declare -A options=(
   [decay995]="wogan --fitness bolp --target-decay 0.995 --mutation-share 0"
   [jobs2]="wogan ${paper[*]} --jobs 2"
   [jobs4]="wogan ${paper[*]} --jobs 4"
-  [jobs4-restart]="wogan ${paper[*]} --jobs 4 --round-acceptance restart"
+  [jobs2-continue]="wogan ${paper[*]} --jobs 2 --round-acceptance continue"
+  [jobs4-continue]="wogan ${paper[*]} --jobs 4 --round-acceptance continue"
 )
-sets=${SETS:-paper distance distance-matched random mutants decay995 jobs2 jobs4 jobs4-restart}
+sets=${SETS:-paper distance distance-matched random mutants decay995 jobs2 jobs4 jobs2-continue jobs4-continue}
 comparisons=(
   "paper-vs-random paper.wogan random.random"
   "distance-vs-bolp distance.wogan paper.wogan"
@@ -57,7 +58,8 @@ comparisons=(
   "decay995-vs-paper decay995.wogan paper.wogan"
   "jobs2-vs-paper jobs2.wogan paper.wogan"
   "jobs4-vs-paper jobs4.wogan paper.wogan"
-  "jobs4restart-vs-paper jobs4-restart.wogan paper.wogan"
+  "jobs2continue-vs-paper jobs2-continue.wogan paper.wogan"
+  "jobs4continue-vs-paper jobs4-continue.wogan paper.wogan"
 )
 done_set() { [ -f "$runs/$1.$(echo "$seeds" | awk '{print $NF}').jsonl" ]; }
 

@@ -97,7 +97,7 @@ fn wogan_in_rounds_of_two_is_reproducible_and_recorded() {
     assert_eq!(first[0]["config"]["search"]["jobs"], 2);
     assert_eq!(
         first[0]["config"]["search"]["wogan"]["round_acceptance"],
-        "continue"
+        "restart"
     );
     let (_, again) = run(&args);
     let deterministic = |records: &[Value]| -> Vec<Value> {

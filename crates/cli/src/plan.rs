@@ -53,8 +53,8 @@ pub struct RunArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
     pub jobs: u32,
     /// With --jobs above 1, how WOGAN's acceptance target carries over between the tests of a
-    /// round: continue (from where the last choice left it) or restart (from 1, as a test alone)
-    /// [default: continue].
+    /// round: restart (from 1, as a test alone) or continue (from where the last choice left it)
+    /// [default: restart].
     #[arg(long, value_parser = crate::value_parsers::round_acceptance)]
     pub round_acceptance: Option<wogan_core::RoundAcceptance>,
     /// What the search maximises: bolp, bolp-scaled or distance [default: bolp, the paper's].

@@ -195,8 +195,8 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
     if let Some(jobs) = jobs.filter(|&j| j > 1) {
         text.push_str(&format!(", rounds of {jobs}"));
         let rule = config.pointer("/search/wogan/round_acceptance");
-        if rule.and_then(Value::as_str) == Some("restart") {
-            text.push_str(" restarted");
+        if rule.and_then(Value::as_str) == Some("continue") {
+            text.push_str(" continued");
         }
     }
     text
@@ -323,9 +323,9 @@ mod tests {
         let one = r#"{"jobs":1,"wogan":{"target_decay":0.95}}"#;
         assert_eq!(key_of(one), "decay 0.95");
         let two = r#"{"jobs":2,"wogan":{"target_decay":0.95,"round_acceptance":"continue"}}"#;
-        assert_eq!(key_of(two), "decay 0.95, rounds of 2");
+        assert_eq!(key_of(two), "decay 0.95, rounds of 2 continued");
         let four = r#"{"jobs":4,"wogan":{"target_decay":0.95,"round_acceptance":"restart"}}"#;
-        assert_eq!(key_of(four), "decay 0.95, rounds of 4 restarted");
+        assert_eq!(key_of(four), "decay 0.95, rounds of 4");
     }
 
     #[test]

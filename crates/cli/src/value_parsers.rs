@@ -157,7 +157,7 @@ mod tests {
 }
 
 /// How WOGAN's acceptance target carries over within a round of tests chosen at once:
-/// `continue` or `restart`.
+/// `restart` or `continue`.
 pub fn round_acceptance(name: &str) -> Result<wogan_core::RoundAcceptance, String> {
     match name {
         "continue" => Ok(wogan_core::RoundAcceptance::Continue),

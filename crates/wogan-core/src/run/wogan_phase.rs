@@ -3,8 +3,8 @@
 //! networks that do not train.
 //!
 //! With `jobs` = N > 1 the phase goes in rounds: it chooses up to N tests one after another
-//! (each through the acceptance rule, whose target carries over between them as
-//! `round_acceptance` says), executes them at once, and learns from all of them before the next
+//! (each through the acceptance rule, whose target starts afresh for each or carries over
+//! between them, as `round_acceptance` says), executes them at once, and learns from all of them before the next
 //! round. Training follows the count of tests executed: a round that brings the tests since the
 //! last training to `train_every` or more retrains once, and the remainder counts towards the
 //! next. With N = 1 every round is one test and this is the paper's loop, step for step. With
