@@ -7,6 +7,8 @@
 //! exit_distances counts DELTA,DELTA,... RUN...      per run: failures, distinct count at each δ
 //!                                                   (`BEFORE=1`: over the 30 m before the exit)
 //! exit_distances nearest RUN...                     per failure: distance to the nearest earlier one
+//! exit_distances order DELTA RUN...                per run: count in test order, reversed, and the
+//!                                                   least and most over 100 seeded shuffles
 //! exit_distances turns RUN...                      per run: failures turning left, right into the exit
 //! exit_distances spread K DELTA RUN...              per run: median pairwise distance, distinct of the first K
 //! exit_distances jitter SIZE COPIES SEED RUN        road lines for `wogan simulate`
@@ -179,6 +181,27 @@ fn main() {
                 ));
             }
             write_svg(&args[1], &args[2], &panels);
+        }
+        Some("order") => {
+            let delta: f64 = args[1].parse().expect("DELTA");
+            let mut rng = ChaCha20Rng::seed_from_u64(1);
+            for run in &args[2..] {
+                let mut f: Vec<ExitProfile> =
+                    failures(run).into_iter().map(|f| f.profile).collect();
+                let in_order = distinct(&f, delta).len();
+                f.reverse();
+                let reversed = distinct(&f, delta).len();
+                let (mut least, mut most) = (usize::MAX, 0);
+                for _ in 0..100 {
+                    // Fisher–Yates with the seeded generator.
+                    for i in (1..f.len()).rev() {
+                        f.swap(i, rng.random_range(0..=i));
+                    }
+                    let n = distinct(&f, delta).len();
+                    (least, most) = (least.min(n), most.max(n));
+                }
+                println!("{run},{},{in_order},{reversed},{least},{most}", f.len());
+            }
         }
         Some("turns") => {
             for run in &args[1..] {

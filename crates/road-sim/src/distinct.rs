@@ -52,8 +52,12 @@ pub struct ExitProfile {
 
 impl ExitProfile {
     /// The exit profile of the centre line `line` (the interpolated road, in driving order) for a
-    /// car that left its lane at `exit`; `None` when `line` has no length.
+    /// car that left its lane at `exit`; `None` when `line` has no length or a coordinate is not
+    /// finite.
     pub fn of(line: &[Point], exit: Point) -> Option<Self> {
+        if !line.iter().chain([&exit]).flatten().all(|c| c.is_finite()) {
+            return None;
+        }
         let path = ArcLength::of(line)?;
         let at_exit = path.nearest(exit);
         // Chord k runs from offset k − 30.5 m to k − 29.5 m: centred on −30, ..., 30 m.
@@ -347,6 +351,11 @@ mod tests {
         let end = ExitProfile::of(&line, line[line.len() - 1]).unwrap();
         assert!(end.headings()[30..].iter().all(|h| h.abs() < 1e-9));
         assert_eq!(ExitProfile::of(&[[1.0, 1.0], [1.0, 1.0]], [0.0, 0.0]), None);
+        assert_eq!(ExitProfile::of(&line, [f64::NAN, 3.0]), None);
+        assert_eq!(
+            ExitProfile::of(&[[0.0, 0.0], [0.0, f64::INFINITY]], [0.0, 1.0]),
+            None
+        );
     }
 
     #[test]
