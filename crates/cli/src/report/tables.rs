@@ -134,5 +134,8 @@ mod tests {
         assert_eq!(figure(1234.4, 0), "1234");
         assert_eq!(median_mean(&[]), "–");
         assert_eq!(median_mean(&[1.0, 2.0, 6.0]), "2 (3)");
+        assert_eq!(runs_of("2 (3)".to_owned(), 3, 3), "2 (3)");
+        assert_eq!(runs_of("2 (3)".to_owned(), 3, 4), "2 (3) (3 runs)");
+        assert_eq!(runs_of("–".to_owned(), 0, 4), "–");
     }
 }
