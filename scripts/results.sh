@@ -192,8 +192,9 @@ def search_section():
     out("Each row: one setting (its configuration as the run headers give it; stgem's WOGAN is "
         "`stgem-wogan`), seeds " + f"{SEEDS[0]}–{SEEDS[-1]}" + ", 300 executed tests per run, as "
         "`wogan report RUN... --table` tabulates them. Failing roads and first failing test: "
-        "median (mean). Diversity: median of the runs with ≥ 2 failing roads (the paper's "
-        "measure). First failing test: its position in the run, executed + 1 when there is none; "
+        "median (mean). Distinct failures: failing roads ≥ 0.1 rad apart in the 60 m around the "
+        "lane exit (docs/reference.md), median (mean). Diversity: median of the runs with ≥ 2 "
+        "failing roads (the paper's measure). First failing test: its position in the run, executed + 1 when there is none; "
         "a seed's 60 random tests are the same in every setting, so it often falls among them. "
         "Closest approach: median of each run's largest `fitness_distance`. µs per candidate: "
         "generation time after the random phase over the candidates drawn there (valid and "
@@ -234,7 +235,8 @@ COMPARISONS = [
      "`--jobs 4 --round-acceptance continue` against one test at a time"),
 ]
 # The rows of each comparison shown here (the full table has every measure of the report).
-MEASURES = ("| failures per run ", "| diversity ", "| first failing test", "| closest approach")
+MEASURES = ("| failures per run ", "| diversity ", "| distinct failures per run ",
+            "| first failing test", "| closest approach")
 
 
 def comparisons_section():
@@ -242,8 +244,8 @@ def comparisons_section():
     out("## Comparisons (Mann–Whitney U, two-sided)")
     out()
     out("A against B, as `wogan report A --vs B --table` gives them (exact up to 20 runs a "
-        "group), four of its rows: failing roads per run, the paper's diversity, the first failing "
-        "test and the closest approach (a run's largest `fitness_distance`, 1 at the lane's edge).")
+        "group), five of its rows: failing roads per run, the paper's diversity, distinct failures "
+        "per run, the first failing test and the closest approach (a run's largest `fitness_distance`, 1 at the lane's edge).")
     for oracle in ORACLES:
         out()
         out(f"### {oracle}")

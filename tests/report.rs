@@ -235,6 +235,8 @@ struct SyntheticTest {
     curvature: Vec<f64>,
     max_bolp: f64,
     failed: bool,
+    /// Where the car left its lane (a failing test's record says so; older runs' did not).
+    exit: Option<[f64; 2]>,
 }
 
 /// The road points of curvature values as `wogan run` makes them: from (100, 10) 15 m north,
@@ -272,7 +274,9 @@ fn write_synthetic_run(path: &Path, oob_tolerance: f64, tests: &[SyntheticTest])
             "road_points": road_points(&test.curvature), "outcome": outcome, "reason": reason,
             "max_bolp": test.max_bolp, "min_lane_distance_m": 1.0 - 2.0 * test.max_bolp,
             "fitness_distance": test.max_bolp, "sim_time_s": 8.0, "execution_ms": 2.0,
-            "MAX_CURV": max_curv, "DIR_COV": 0.3, "STD_SA": 2.0, "MEAN_LP": 1.5, "MAX_LP": 2.0});
+            "MAX_CURV": max_curv, "DIR_COV": 0.3, "STD_SA": 2.0, "MEAN_LP": 1.5, "MAX_LP": 2.0,
+            "oob": test.exit.map(|[x, y]| json!({"t_s": 4.0, "x": x, "y": y, "side": "right",
+                "sbst_side": "RIGHT"}))});
         text += &record.to_string();
         text.push('\n');
     }
@@ -303,6 +307,7 @@ fn crowded_tests() -> Vec<SyntheticTest> {
                 curvature,
                 max_bolp,
                 failed,
+                exit: None,
             }
         })
         .collect()
@@ -655,6 +660,7 @@ fn road_labels_do_not_pile_up() {
             curvature: vec![0.03; 5],
             max_bolp: 0.12,
             failed: true,
+            exit: None,
         })
         .collect();
     write_synthetic_run(&run, 0.1, &tests);
@@ -927,8 +933,8 @@ fn table_prints_one_row_per_configuration_and_writes_no_files() {
     assert_eq!(rows[1][2], "3 (3)");
     assert_eq!(rows[0][2], "2 (2)");
     // Random search chooses no test after a random phase: no cost per candidate.
-    assert_eq!(rows[0][7], "–");
-    assert_ne!(rows[1][7], "–");
+    assert_eq!(rows[0][8], "–");
+    assert_ne!(rows[1][8], "–");
     assert_eq!(
         std::fs::read_dir(&dir).unwrap().count(),
         0,
@@ -983,4 +989,106 @@ fn table_and_out_are_one_or_the_other() {
     assert_eq!(output.status.code(), Some(2));
     let output = wogan(&["report", &fixture("wogan.seed3.jsonl")], "");
     assert_eq!(output.status.code(), Some(2), "neither --out nor --table");
+}
+
+/// A test on the road of `curvature`: failing with the car leaving 2 m right of the road's
+/// fourth point, or passing.
+fn exit_test(curvature: &[f64], failed: bool) -> SyntheticTest {
+    let points = road_points(curvature);
+    let [x, y] = points[3];
+    let [px, py] = points[2];
+    let length = (x - px).hypot(y - py);
+    // Right of the direction of travel from the third point to the fourth.
+    let exit = [x + 2.0 * (y - py) / length, y - 2.0 * (x - px) / length];
+    SyntheticTest {
+        curvature: curvature.to_vec(),
+        max_bolp: if failed { 0.5 } else { 0.05 },
+        failed,
+        exit: failed.then_some(exit),
+    }
+}
+
+#[test]
+fn distinct_failures_count_roads_apart_around_their_exits() {
+    let out = scratch_dir("distinct");
+    // A left bend failed twice at the same place (one failure), its mirror (another), a gentle
+    // bend (a third) and a passing road (none).
+    let left = [0.0, 0.06, 0.06, 0.0, 0.0];
+    let right = left.map(|c: f64| -c);
+    let gentle = [0.0, 0.01, 0.01, 0.0, 0.0];
+    let three = out.join("three.jsonl");
+    write_synthetic_run(
+        &three,
+        0.1,
+        &[
+            exit_test(&left, true),
+            exit_test(&gentle, false),
+            exit_test(&left, true),
+            exit_test(&right, true),
+            exit_test(&gentle, true),
+        ],
+    );
+    let one = out.join("one.jsonl");
+    write_synthetic_run(
+        &one,
+        0.1,
+        &[exit_test(&right, true), exit_test(&right, true)],
+    );
+    wogan_ok(
+        &[
+            "report",
+            path_str(&three),
+            path_str(&one),
+            "--out",
+            path_str(&out),
+        ],
+        "",
+    );
+    let report = read(&out.join("report.md"));
+    // Runs of 3 and 1 distinct failures: mean 2, SD sqrt(2).
+    assert!(
+        report.contains(
+            "| distinct failures (failing roads ≥ δ apart around the lane exit; runs that record \
+             where the car left its lane) | 2.000 | 1.414 | 2 |"
+        ),
+        "{report}"
+    );
+    // Beside the paper's diversity, in the table of configurations.
+    let table = wogan_ok(&["report", path_str(&three), path_str(&one), "--table"], "");
+    let table = String::from_utf8_lossy(&table.stdout);
+    assert!(
+        table.contains("| failing roads | distinct failures | diversity |"),
+        "{table}"
+    );
+    assert!(table.contains("| 2 | 3 (3) | 2 (2) | "), "{table}");
+    // A run written before records said where the car left: no count, and the table says of
+    // how many runs the figure is.
+    let table = wogan_ok(
+        &[
+            "report",
+            path_str(&three),
+            &fixture("wogan.seed3.jsonl"),
+            "--table",
+        ],
+        "",
+    );
+    let table = String::from_utf8_lossy(&table.stdout);
+    assert!(table.contains("| 1 | 4 (4) | 3 (3) | "), "{table}");
+    assert!(table.contains("| 1 | 5 (5) | – | "), "{table}");
+    // Compared: 3 against 1.
+    let vs = wogan_ok(
+        &[
+            "report",
+            path_str(&three),
+            "--vs",
+            path_str(&one),
+            "--table",
+        ],
+        "",
+    );
+    let vs = String::from_utf8_lossy(&vs.stdout);
+    assert!(
+        vs.contains("| distinct failures per run | 3.000 (–) n=1 | 1.000 (–) n=1 |"),
+        "{vs}"
+    );
 }

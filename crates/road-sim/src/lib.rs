@@ -9,7 +9,8 @@
 //! - [`sim`]: one drive, a car in a rapier3d world steered by a [`Driver`] and watched by the
 //!   lane monitor, ending in a [`SimResult`];
 //! - [`driver`]: the drivers under test, each with its preset and tuning;
-//! - [`oob`]: the SBST competition's analysis of out-of-bound episodes (sides, sparseness).
+//! - [`oob`]: the SBST competition's analysis of out-of-bound episodes (sides, sparseness);
+//! - [`distinct`]: how many failing roads differ around where the car left its lane.
 //!
 //! ```
 //! use road_sim::driver::{DriverConfig, DriverKind};
@@ -24,6 +25,7 @@
 //! ```
 
 pub mod child_process;
+pub mod distinct;
 pub mod driver;
 pub mod json_float;
 pub mod oob;

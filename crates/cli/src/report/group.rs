@@ -6,6 +6,7 @@ use crate::records::{known, TestRecord};
 use crate::run_file::RunFile;
 use crate::sbst::metrics::SbstMeasures;
 use rayon::prelude::*;
+use road_sim::distinct::{distinct, ExitProfile, DELTA_RAD};
 use road_sim::road::heading_profile::heading_profile;
 use road_sim::Road;
 use road_sim::SimResult;
@@ -35,6 +36,10 @@ pub struct RunMeasures {
     pub training_s: f64,
     /// Median pairwise distance of the failing roads' heading profiles; `None` below two failures.
     pub diversity: Option<f64>,
+    /// Distinct failures: the greedy count of failing roads whose exit profiles lie at least
+    /// [`DELTA_RAD`] apart ([`road_sim::distinct`]); `None` when a failing test's record does not
+    /// say where the car left its lane (runs written before wogan recorded it).
+    pub distinct_failures: Option<usize>,
     /// Position (1-based) of the first failing test; `None` when no test failed.
     pub first_failure: Option<usize>,
     /// Share of the tests after the first failing one that failed too (how well a search exploits
@@ -100,6 +105,7 @@ impl RunMeasures {
                 .sum(),
             training_s: run.train_ms / 1000.0,
             diversity: median_pairwise_distance(&profiles, seed).median_distance,
+            distinct_failures: distinct_failures(&run.tests),
             first_failure: first_index.map(|i| i + 1),
             // Every failure but the first comes after it.
             failure_rate_after_first: (tests_after_first > 0)
@@ -125,6 +131,22 @@ impl RunMeasures {
     pub fn first_failure_or_past_end(&self) -> f64 {
         self.first_failure.unwrap_or(self.executed + 1) as f64
     }
+}
+
+/// The greedy count of distinct failures among `tests`, in test order; `None` when a failing
+/// test does not say where the car left its lane.
+pub fn distinct_failures(tests: &[TestRecord]) -> Option<usize> {
+    let profiles = tests
+        .iter()
+        .filter(|t| t.failed())
+        .map(|t| {
+            let exit = t.execution.result.oob?;
+            // A road that cannot be built cannot have been driven: there is nothing to count.
+            let road = Road::new(&t.execution.road_points).ok()?;
+            ExitProfile::of(&road.interpolated, [exit.x, exit.y])
+        })
+        .collect::<Option<Vec<ExitProfile>>>()?;
+    Some(distinct(&profiles, DELTA_RAD).len())
 }
 
 /// Mean and sample SD of one measure over runs.
@@ -197,6 +219,8 @@ pub struct GroupFigures {
     pub training_s: Spread,
     /// Diversity over the runs with at least two failures.
     pub diversity: Spread,
+    /// Distinct failures per run (runs that say where their cars left the lane).
+    pub distinct_failures: Spread,
     /// DIR_COV buckets (k of k/26) hit by the failing tests.
     pub dir_cov_buckets: BTreeSet<u32>,
     /// DIR_COV of the failing tests (bins: the buckets above).
@@ -248,6 +272,7 @@ impl GroupFigures {
             simulated_s: Spread::of(&column(|m| Some(m.simulated_s))),
             training_s: Spread::of(&column(|m| Some(m.training_s))),
             diversity: Spread::of(&column(|m| m.diversity)),
+            distinct_failures: Spread::of(&column(|m| m.distinct_failures.map(|n| n as f64))),
             dir_cov_buckets,
             dir_cov,
             max_curv: FeatureCoverage::of(&feature(&|r| r.max_curv), MAX_CURV_BIN_PER_M),
@@ -334,6 +359,48 @@ mod tests {
             RunMeasures::of(&run_of(&[Outcome::Pass])).ranked_per_choice,
             None
         );
+    }
+
+    /// A failing test on a road bending left (or right when `mirrored`) that the car left at
+    /// (x, y), or whose record does not say where when `exit` is `None`.
+    fn failure(id: usize, mirrored: bool, exit: Option<(f64, f64)>) -> TestRecord {
+        let mut test = TestRecord::example(id, Outcome::Fail, 0);
+        let side = if mirrored { -1.0 } else { 1.0 };
+        test.execution.road_points = vec![
+            [100.0, 10.0],
+            [100.0, 25.0],
+            [100.0 - side * 5.0, 39.0],
+            [100.0 - side * 16.0, 49.0],
+            [100.0 - side * 30.0, 54.0],
+        ];
+        test.execution.result.oob = exit.map(|(x, y)| road_sim::LaneExit {
+            t_s: 5.0,
+            x: side * (x - 100.0) + 100.0,
+            y,
+            side: road_sim::LaneSide::Right,
+            sbst_side: None,
+        });
+        test
+    }
+
+    #[test]
+    fn distinct_failures_count_failing_roads_apart_around_their_exits() {
+        let at = Some((97.0, 36.0));
+        let pass = TestRecord::example(1, Outcome::Pass, 0);
+        assert_eq!(distinct_failures(std::slice::from_ref(&pass)), Some(0));
+        // The same road left at the same place twice: one failure; its mirror is another.
+        let twice = [failure(2, false, at), pass.clone(), failure(4, false, at)];
+        assert_eq!(distinct_failures(&twice), Some(1));
+        let mirrored = [failure(2, false, at), failure(3, true, at)];
+        assert_eq!(distinct_failures(&mirrored), Some(2));
+        // A failure without its exit leaves the count undefined; a pass without one does not.
+        assert_eq!(
+            distinct_failures(&[failure(2, false, at), failure(3, false, None)]),
+            None
+        );
+        let mut run = run_of(&[Outcome::Pass]);
+        run.tests.extend(mirrored);
+        assert_eq!(RunMeasures::of(&run).distinct_failures, Some(2));
     }
 
     #[test]

@@ -143,6 +143,10 @@ pub const COMPETITION: [(&str, Measure); 12] = [
 /// The rows of [`COMPETITION`] the comparison tests (failures are tested already).
 const COMPETITION_COMPARED: [usize; 6] = [4, 5, 6, 7, 9, 11];
 
+/// The name of the distinct-failures row of a group's table.
+const DISTINCT_FAILURES: &str = "distinct failures (failing roads ≥ δ apart around the lane exit; \
+     runs that record where the car left its lane)";
+
 /// One group's section.
 fn group(number_1: usize, section: &GroupSection) -> String {
     let f = &section.figures;
@@ -169,6 +173,7 @@ fn group(number_1: usize, section: &GroupSection) -> String {
         "diversity (median pairwise heading-profile distance of failing roads; runs with ≥ 2 failures)",
         &f.diversity,
     ));
+    text.push_str(&spread_row(DISTINCT_FAILURES, &f.distinct_failures));
     for (name, measure) in EXPLOITATION {
         text.push_str(&spread_row(name, &Spread::of(&f.values(measure))));
     }
@@ -282,9 +287,12 @@ pub fn comparison_table(
         String::from("| measure | A mean (SD) | B mean (SD) | U of A | p (two-sided) | method |\n");
     text.push_str("|---|---|---|---|---|---|\n");
     // The means shown are those of the samples the test compares.
-    let outcomes: [(&str, Measure); 2] = [
+    let outcomes: [(&str, Measure); 3] = [
         ("failures per run", |m| Some(m.failures as f64)),
         ("diversity", |m| m.diversity),
+        ("distinct failures per run", |m| {
+            m.distinct_failures.map(|n| n as f64)
+        }),
     ];
     let measures = outcomes
         .into_iter()

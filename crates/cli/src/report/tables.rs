@@ -47,6 +47,15 @@ fn median_mean(values: &[f64]) -> String {
     }
 }
 
+/// `text`, with how many of `all` runs it is of when not all.
+fn runs_of(text: String, some: usize, all: usize) -> String {
+    if some > 0 && some < all {
+        format!("{text} ({some} runs)")
+    } else {
+        text
+    }
+}
+
 /// A figure as people write it: `digits` decimals at most, no trailing zeros.
 fn figure(value: f64, digits: usize) -> String {
     let text = format!("{value:.digits$}");
@@ -60,14 +69,18 @@ fn figure(value: f64, digits: usize) -> String {
 /// One row per configuration: what a search found in its runs.
 fn configurations_table(groups: &[(String, GroupFigures)]) -> String {
     let mut text = String::from(
-        "| configuration | runs | failing roads | diversity | first failing test | closest \
-         approach | invalid candidates per run | µs per candidate |\n\
-         |---|---|---|---|---|---|---|---|\n",
+        "| configuration | runs | failing roads | distinct failures | diversity | first failing \
+         test | closest approach | invalid candidates per run | µs per candidate |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
     );
     for (label, f) in groups {
         let runs = &f.runs;
         let failures: Vec<f64> = runs.iter().map(|m| m.failures as f64).collect();
         let diversity: Vec<f64> = runs.iter().filter_map(|m| m.diversity).collect();
+        let distinct: Vec<f64> = runs
+            .iter()
+            .filter_map(|m| m.distinct_failures.map(|n| n as f64))
+            .collect();
         let firsts: Vec<f64> = runs.iter().map(|m| m.first_failure_or_past_end()).collect();
         let closest: Vec<f64> = runs.iter().filter_map(|m| m.closest_approach).collect();
         let invalid: Vec<f64> = runs.iter().map(|m| m.invalid_candidates as f64).collect();
@@ -88,9 +101,10 @@ fn configurations_table(groups: &[(String, GroupFigures)]) -> String {
         };
         let _ = writeln!(
             text,
-            "| {label} | {} | {} | {diversity_text} | {} | {} | {} | {per_candidate} |",
+            "| {label} | {} | {} | {} | {diversity_text} | {} | {} | {} | {per_candidate} |",
             runs.len(),
             median_mean(&failures),
+            runs_of(median_mean(&distinct), distinct.len(), runs.len()),
             median_mean(&firsts),
             median(&closest).map_or_else(|| "–".to_owned(), |c| figure(c, 3)),
             median(&invalid).map_or_else(|| "–".to_owned(), |v| figure(v, 1)),
@@ -111,5 +125,8 @@ mod tests {
         assert_eq!(figure(1234.4, 0), "1234");
         assert_eq!(median_mean(&[]), "–");
         assert_eq!(median_mean(&[1.0, 2.0, 6.0]), "2 (3)");
+        assert_eq!(runs_of("2 (3)".to_owned(), 3, 3), "2 (3)");
+        assert_eq!(runs_of("2 (3)".to_owned(), 3, 4), "2 (3) (3 runs)");
+        assert_eq!(runs_of("–".to_owned(), 0, 4), "–");
     }
 }
