@@ -121,6 +121,16 @@ pub fn fitness_kind(name: &str) -> Result<FitnessKind, String> {
     })
 }
 
+/// How WOGAN's acceptance target carries over within a round of tests chosen at once:
+/// `restart` or `continue`.
+pub fn round_acceptance(name: &str) -> Result<wogan_core::RoundAcceptance, String> {
+    match name {
+        "continue" => Ok(wogan_core::RoundAcceptance::Continue),
+        "restart" => Ok(wogan_core::RoundAcceptance::Restart),
+        _ => Err(format!("expected continue or restart, got {name:?}")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -153,15 +163,5 @@ mod tests {
         assert!(oracle("cmd: ").is_err());
         assert_eq!(fitness_kind("bolp-scaled"), Ok(FitnessKind::BolpScaled));
         assert!(fitness_kind("speed").is_err());
-    }
-}
-
-/// How WOGAN's acceptance target carries over within a round of tests chosen at once:
-/// `restart` or `continue`.
-pub fn round_acceptance(name: &str) -> Result<wogan_core::RoundAcceptance, String> {
-    match name {
-        "continue" => Ok(wogan_core::RoundAcceptance::Continue),
-        "restart" => Ok(wogan_core::RoundAcceptance::Restart),
-        _ => Err(format!("expected continue or restart, got {name:?}")),
     }
 }
