@@ -16,7 +16,7 @@
 #   target/criterion/**/new/estimates.json                 cargo bench (commands in the output)
 #   target/results/train-driver.json (optional)            wogan train-driver --seed 1 ... (below)
 #   tests/reference/*.jsonl                                the competition's vectors
-#   target/bench-output/{ci,plug-points,campaigns}.txt     scripts/{ci,plug_points,campaign}_bench.sh
+#   target/bench-output/{ci,plug-points,campaigns,parallel}.txt  scripts/{ci,plug_points,campaign,parallel}_bench.sh
 # What it runs: `wogan report ... --table`, whose tables of run files it includes as they are,
 # and `wogan simulate` / `wogan validate` on the reference roads (about a minute: dave2-proxy
 # renders and infers 300 drives).
@@ -227,6 +227,10 @@ COMPARISONS = [
     ("distance-matched.wogan", "distance.wogan", "distance: matched decay against 0.95"),
     ("mutants.wogan", "paper.wogan", "`--mutation-share 0.25` against the paper's settings"),
     ("decay995.wogan", "paper.wogan", "`--target-decay 0.995` against the paper's settings"),
+]
+# Rounds of tests chosen at once (`--jobs`, issue 37) against one test at a time: their own
+# section, so that it can be regenerated alone (ONLY=rounds).
+ROUNDS_COMPARISONS = [
     ("jobs2.wogan", "paper.wogan", "`--jobs 2` (rounds of 2 tests) against one test at a time"),
     ("jobs4.wogan", "paper.wogan", "`--jobs 4` (rounds of 4 tests) against one test at a time"),
     ("jobs2-continue.wogan", "paper.wogan",
@@ -246,10 +250,25 @@ def comparisons_section():
     out("A against B, as `wogan report A --vs B --table` gives them (exact up to 20 runs a "
         "group), five of its rows: failing roads per run, the paper's diversity, distinct failures "
         "per run, the first failing test and the closest approach (a run's largest `fitness_distance`, 1 at the lane's edge).")
+    comparison_tables(COMPARISONS)
+
+
+def rounds_section():
+    out()
+    out("## Rounds of tests (`--jobs`): quality per test")
+    out()
+    out("WOGAN choosing rounds of N tests at once (A) against one test at a time (B), the paper's "
+        "settings otherwise, 300 tests, seeds 1–20, as `wogan report A --vs B --table` gives "
+        "them (the same rows as above); runs: `ORACLES=ORACLE SETS=\"paper jobs2 jobs4 "
+        "jobs2-continue jobs4-continue\" scripts/search_figures.sh`. Their speed: \"Every core\".")
+    comparison_tables(ROUNDS_COMPARISONS)
+
+
+def comparison_tables(comparisons):
     for oracle in ORACLES:
         out()
         out(f"### {oracle}")
-        for a, b, what in COMPARISONS:
+        for a, b, what in comparisons:
             group_a = run_files(oracle, *a.split("."))
             group_b = run_files(oracle, *b.split("."))
             out()
@@ -756,6 +775,7 @@ def sections(bench):
         ("generator", generator_section),
         ("ci", ci_section),
         ("plug-points", plug_points_section),
+        ("rounds", rounds_section),
         ("every-core", every_core_section),
         ("campaigns", campaigns_section),
         ("reference-roads", reference_roads),
