@@ -7,7 +7,7 @@
 //! GNU parallel is not a build dependency: without it the recipe's test says so and checks
 //! nothing, unless WOGAN_REQUIRE_PARALLEL is set (CI sets it, and installs parallel).
 
-use crate::common::{scratch_dir, wogan, write_file};
+use crate::common::{entry_names, scratch_dir, wogan, write_file};
 use crate::report::{fixture, path_str, read};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -46,21 +46,6 @@ fn parallel_available(test: &str) -> bool {
         );
     }
     found
-}
-
-/// The names of the files in `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("a folder")
-        .map(|e| {
-            e.expect("an entry")
-                .file_name()
-                .to_string_lossy()
-                .into_owned()
-        })
-        .collect();
-    names.sort();
-    names
 }
 
 /// Each test's outcome and max BOLP (what a rerun of the same seed must reproduce; timings
@@ -148,7 +133,7 @@ fn parallel_campaign_runs_resumes_and_reports_as_one_folder() {
     let mut expected: Vec<String> = runs.iter().map(|r| r.to_string()).collect();
     expected.push("broken.controller.1.jsonl.part".to_owned());
     expected.push("joblog".to_owned());
-    assert_eq!(names(&results), expected);
+    assert_eq!(entry_names(&results), expected);
     let joblog = read(&results.join("joblog"));
     assert_eq!(
         joblog.lines().count(),
@@ -379,7 +364,7 @@ fn slurm_submission_sizes_the_array_and_each_index_runs_its_task() {
         );
     }
     assert_eq!(
-        names(&results),
+        entry_names(&results),
         [
             pending.rsplit('/').next().expect("a name"),
             "tiny.random.1.jsonl",

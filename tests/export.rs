@@ -3,7 +3,7 @@
 //! boundary, runs that do not replay, and the directory it writes to: new or empty, an earlier
 //! export replaced only with `--force`, nothing else ever removed, and never its own input.
 
-use crate::common::{scratch_dir, wogan, wogan_ok};
+use crate::common::{entry_names, scratch_dir, wogan, wogan_ok};
 use crate::report::{fixture, path_str, read};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -46,22 +46,6 @@ fn tests_of(path: &Path) -> Vec<Value> {
         .filter(|r| r["type"] == "test")
         .collect()
 }
-/// The names of the entries of `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|entry| {
-            entry
-                .expect("an entry")
-                .file_name()
-                .to_string_lossy()
-                .into_owned()
-        })
-        .collect();
-    names.sort();
-    names
-}
-
 /// Runs `wogan export RUN DIR` (with `--force` when `force`) and returns its exit status and
 /// standard error.
 fn export(run: &Path, dir: &str, force: bool) -> (Option<i32>, String) {
@@ -229,7 +213,7 @@ fn export_keeps_the_pipelines_accounting_at_the_budgets_boundary() {
     assert!(!dir
         .join(format!("test.{:04}.json", last["id"].as_u64().unwrap()))
         .exists());
-    let files = names(&dir)
+    let files = entry_names(&dir)
         .iter()
         .filter(|n| n.starts_with("test."))
         .count();
@@ -291,7 +275,11 @@ fn a_run_that_does_not_replay_is_not_exported() {
     let (status, stderr) = export(&run, path_str(&dir), false);
     assert_eq!(status, Some(2), "{stderr}");
     assert!(stderr.contains("test 1 does not replay"), "{stderr}");
-    assert_eq!(names(&dir), Vec::<String>::new(), "a half export was left");
+    assert_eq!(
+        entry_names(&dir),
+        Vec::<String>::new(),
+        "a half export was left"
+    );
     // A run of an older version, whose header holds settings this one does not know.
     let (status, stderr) = export(
         Path::new(&fixture("wogan.seed3.jsonl")),
@@ -318,7 +306,7 @@ fn export_refuses_a_directory_that_holds_other_files() {
         );
     }
     // Nothing was written, nothing removed.
-    assert_eq!(names(&dir), ["notes.txt"]);
+    assert_eq!(entry_names(&dir), ["notes.txt"]);
     assert_eq!(read(&dir.join("notes.txt")), "mine");
 }
 
@@ -328,7 +316,7 @@ fn export_replaces_an_earlier_export_only_with_force() {
     let dir = out.join("sbst");
     wogan_ok(&["export", path_str(fresh_run()), path_str(&dir)], "");
     // 30 tests, generation_stats.csv and oob_stats.csv.
-    assert_eq!(names(&dir).len(), 32);
+    assert_eq!(entry_names(&dir).len(), 32);
     // The header and the first 10 tests of the same run.
     let text = read(fresh_run());
     let short: Vec<&str> = text
@@ -351,7 +339,7 @@ fn export_replaces_an_earlier_export_only_with_force() {
         "{stderr}"
     );
     assert_eq!(
-        names(&dir).len(),
+        entry_names(&dir).len(),
         32,
         "an export without --force removed files"
     );
@@ -362,7 +350,7 @@ fn export_replaces_an_earlier_export_only_with_force() {
     let mut expected: Vec<String> = (1..=10).map(|id| format!("test.{id:04}.json")).collect();
     expected.insert(0, "generation_stats.csv".to_owned());
     expected.insert(1, "oob_stats.csv".to_owned());
-    assert_eq!(names(&dir), expected);
+    assert_eq!(entry_names(&dir), expected);
     let csv = read(&dir.join("generation_stats.csv"));
     let row: Vec<&str> = csv.lines().nth(1).expect("a row").split(',').collect();
     assert_eq!(row[1], "10", "{csv}");
@@ -377,7 +365,7 @@ fn export_replaces_an_earlier_export_only_with_force() {
     );
     expected.push("notes.txt".to_owned());
     expected.sort();
-    assert_eq!(names(&dir), expected);
+    assert_eq!(entry_names(&dir), expected);
 }
 
 #[test]
@@ -398,7 +386,7 @@ fn export_refuses_to_write_over_its_input() {
                 "{name}, --force {force}: {stderr}"
             );
             assert_eq!(read(&run), original, "{name} was written over");
-            assert_eq!(names(&dir), [name], "--force {force}");
+            assert_eq!(entry_names(&dir), [name], "--force {force}");
         }
         std::fs::remove_file(&run).expect("remove");
     }

@@ -117,3 +117,19 @@ pub fn python_check(script: &str) {
         String::from_utf8_lossy(&output.stderr)
     );
 }
+
+/// The names of the entries of `dir`, sorted.
+pub fn entry_names(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|entry| {
+            entry
+                .expect("an entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    names.sort();
+    names
+}

@@ -100,11 +100,7 @@ fn same_seed_same_tests() {
     assert_ne!(ta, tc);
     assert_eq!(ta.iter().filter(|t| t.1 == Phase::Random).count(), 15);
     assert_eq!(ta.iter().filter(|t| t.1 == Phase::Wogan).count(), 15);
-    let trains = a
-        .iter()
-        .filter(|e| matches!(e, Event::Train { .. }))
-        .count();
-    assert_eq!(trains, 5, "retrain every 3 tests");
+    assert_eq!(trains_of(&a), 5, "retrain every 3 tests");
     assert_eq!(sa.executed, 30);
     let invalid: usize = a
         .iter()
