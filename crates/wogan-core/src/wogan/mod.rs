@@ -7,6 +7,7 @@ mod bins;
 mod model;
 mod mutation;
 mod snapshot;
+mod training_round;
 
 #[cfg(test)]
 pub(crate) use acceptance::Acceptance;
