@@ -7,7 +7,9 @@
 use super::model::{Layout, ModelState, OnnxError, OnnxModel};
 use super::preprocessing::{ColourSpace, PixelScaling, Preprocessor};
 use super::throttle::{CompetitionThrottle, ThrottleRule};
+use crate::driver::dave2;
 use crate::driver::pedals::pedals;
+use crate::driver::preset::DriverPreset;
 use crate::road::Road;
 use crate::setting_checks::{all_non_negative, all_within, SettingsError};
 use crate::sim::{Command, Driver, Observation, VehicleParams};
@@ -15,6 +17,10 @@ use crate::vision::{Camera, CameraParams, Frame, RoadScene};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
+
+/// How a camera network is judged unless told otherwise: the competition's DAVE-2 experiment
+/// (dave2-proxy's preset).
+pub const PRESET: DriverPreset = dave2::PRESET;
 
 /// A camera network's settings (a config file's `driver` section); the model itself comes only
 /// from the command line. The defaults are the competition's DAVE-2 executor's.
@@ -295,7 +301,7 @@ impl Driver for OnnxDriver {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::driver::dave2::{embedded_weights, Dave2Driver, Dave2DriverParams, PRESET};
+    use crate::driver::dave2::{embedded_weights, Dave2Driver, Dave2DriverParams};
     use crate::sim::{simulate, Outcome, StopReason};
     use crate::vision::Dave2Net;
     use std::path::PathBuf;
