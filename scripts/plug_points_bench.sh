@@ -4,7 +4,10 @@
 #   with `wogan simulate` as its external executor (a JSON line out, the drive, a line back);
 # - the controller: the first 100 reference roads driven by beamng-ai-proxy and by
 #   examples/controllers/pure_pursuit.py through the controller protocol (a step line out and a
-#   command back at 20 Hz): steps per second and the cost of a whole road.
+#   command back at 20 Hz): steps per second and the cost of a whole road;
+# - the camera network: the same 100 roads driven by dave2-proxy (its network in plain Rust) and
+#   by the same network exported to ONNX (tests/fixtures/onnx/dave2-proxy.onnx, run by tract under
+#   the settings that make it dave2-proxy), one job each: the cost of a road (goal: within 2x).
 #
 #   scripts/plug_points_bench.sh | tee target/bench-output/plug-points.txt
 set -euo pipefail
@@ -47,3 +50,20 @@ c=$(printf '%s\n' "${builtin[@]}" | median)
 d=$(printf '%s\n' "${piped[@]}" | median)
 steps=$(jq -s '[.[].sim_time_s] | add * 20 | floor' "$work/controller.1.jsonl")
 echo "wogan simulate of 100 reference roads: $c s wall with beamng-ai-proxy, $d s with the pure-pursuit controller process ($steps control steps through the protocol: $(awk -v s="$steps" -v d="$d" 'BEGIN {printf "%.0f", s / d}') steps per second; $(awk -v c="$c" 'BEGIN {printf "%.1f", c * 10}') ms against $(awk -v d="$d" 'BEGIN {printf "%.1f", d * 10}') ms per road)"
+
+config=$work/onnx-as-proxy.json
+echo '{"driver": {"crop_top_rows": 0, "crop_bottom_rows": 0, "throttle": "speed-controller"}}' > "$config"
+proxy=() network=()
+for i in 1 2 3; do
+  proxy+=("$(wall "$wogan" simulate --oracle dave2-proxy --jobs 1 "$roads")")
+  start=$(date +%s.%N)
+  "$wogan" simulate --oracle onnx:tests/fixtures/onnx/dave2-proxy.onnx --config "$config" --jobs 1 "$roads" \
+    > "$work/onnx.$i.jsonl"
+  end=$(date +%s.%N)
+  network+=("$(awk -v a="$start" -v b="$end" 'BEGIN {print b - a}')")
+done
+"$wogan" simulate --oracle dave2-proxy --jobs 1 "$roads" > "$work/proxy.jsonl"
+e=$(printf '%s\n' "${proxy[@]}" | median)
+f=$(printf '%s\n' "${network[@]}" | median)
+same=$(cmp -s <(jq -c '.outcome' "$work/proxy.jsonl") <(jq -c '.outcome' "$work/onnx.1.jsonl") && echo yes || echo no)
+echo "wogan simulate of 100 reference roads --jobs 1: $e s wall with dave2-proxy, $f s with onnx:tests/fixtures/onnx/dave2-proxy.onnx (the same network run by tract: $(awk -v e="$e" 'BEGIN {printf "%.1f", e * 10}') ms against $(awk -v f="$f" 'BEGIN {printf "%.1f", f * 10}') ms per road, $(awk -v e="$e" -v f="$f" 'BEGIN {printf "%.2f", f / e}')x); the same outcomes: $same"

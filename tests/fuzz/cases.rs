@@ -436,6 +436,32 @@ pub(super) fn driver_options(
         // Its settings are checked like any driver's (the built-in ones' fuzz the rest).
         return DriverKind::BeamNgAiProxy;
     }
+    if chance(rng, 0.08) {
+        // A camera network: a fixture, broken or not, and the settings under which the dave2-proxy
+        // fixture drives (the competition's crop does not fit its 66 rows, which is refused).
+        let path = match onnx_model_file(rng, &mut case.notes) {
+            Some(bytes) => {
+                case.file("model.onnx", bytes);
+                "onnx:model.onnx"
+            }
+            None => *pick(rng, &["onnx:missing.onnx", "onnx:.", "onnx:"]),
+        };
+        case.opt(rng, "--oracle", path);
+        if chance(rng, 0.7) {
+            let config = *pick(
+                rng,
+                &[
+                    r#"{"driver": {"crop_top_rows": 0, "crop_bottom_rows": 0}}"#,
+                    r#"{"driver": {"crop_top_rows": 2, "crop_bottom_rows": 0, "throttle": "network"}}"#,
+                    r#"{"driver": {"crop_top_rows": 0, "crop_bottom_rows": 0, "layout": "nchw", "pixel_scaling": "unit"}}"#,
+                    r#"{"driver": {"crop_top_rows": 70, "model": "x.onnx"}}"#,
+                ],
+            );
+            case.file("onnx.json", config.as_bytes().to_vec());
+            case.opt(rng, "--config", "onnx.json");
+        }
+        return DriverKind::BeamNgAiProxy;
+    }
     let oracle = if chance(rng, 0.6) {
         DriverKind::BeamNgAiProxy
     } else {

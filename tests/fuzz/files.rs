@@ -351,3 +351,55 @@ pub(super) fn weights_file(
     notes.push(format!("weights.bin: {how}"));
     Some(bytes)
 }
+
+/// The ONNX models of tests/fixtures/onnx/, by name.
+const ONNX_FIXTURES: [(&str, &[u8]); 5] = [
+    (
+        "dave2-proxy",
+        include_bytes!("../fixtures/onnx/dave2-proxy.onnx"),
+    ),
+    ("rgb_mean", include_bytes!("../fixtures/onnx/rgb_mean.onnx")),
+    (
+        "nan_on_road",
+        include_bytes!("../fixtures/onnx/nan_on_road.onnx"),
+    ),
+    ("rank2", include_bytes!("../fixtures/onnx/rank2.onnx")),
+    (
+        "three_outputs",
+        include_bytes!("../fixtures/onnx/three_outputs.onnx"),
+    ),
+];
+
+/// A model for `--oracle onnx:FILE`: a fixture as it is (good, or broken in a way the loader
+/// names), or cut, with flipped bytes, empty or random; `None` for no file.
+pub(super) fn onnx_model_file(rng: &mut ChaCha8Rng, notes: &mut Vec<String>) -> Option<Vec<u8>> {
+    let (name, fixture) = *pick(rng, &ONNX_FIXTURES);
+    let mut bytes = fixture.to_vec();
+    let how = match rng.random_range(0..8) {
+        0..=2 => format!("{name} as it is"),
+        3 => {
+            let at = rng.random_range(0..bytes.len());
+            bytes.truncate(at);
+            format!("{name} cut at byte {at}")
+        }
+        4 | 5 => {
+            let flips = rng.random_range(1..=20);
+            for _ in 0..flips {
+                let i = rng.random_range(0..bytes.len().min(4096));
+                bytes[i] ^= 1 << rng.random_range(0..8);
+            }
+            format!("{name} with {flips} bits flipped in its first 4 KiB")
+        }
+        6 => {
+            let len = rng.random_range(0..4096);
+            bytes = (0..len).map(|_| rng.random::<u8>()).collect();
+            format!("{len} random bytes")
+        }
+        _ => {
+            notes.push("model: not a file".into());
+            return None;
+        }
+    };
+    notes.push(format!("model.onnx: {how}"));
+    Some(bytes)
+}

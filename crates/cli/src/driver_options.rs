@@ -4,7 +4,9 @@ use crate::config_file::{self, ConfigFile};
 use crate::value_parsers::{map_size_m, oracle, positive_kmh, share, Oracle};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use road_sim::driver::{BeamNgAiParams, ControllerConfig, ControllerParams, Dave2DriverParams};
+use road_sim::driver::{
+    BeamNgAiParams, ControllerConfig, ControllerParams, Dave2DriverParams, OnnxConfig, OnnxParams,
+};
 use road_sim::vision::Dave2Weights;
 use road_sim::{DriverConfig, DriverKind, SimConfig};
 use std::path::{Path, PathBuf};
@@ -16,18 +18,20 @@ pub const DEFAULT_MAP_SIZE_M: f64 = 200.0;
 /// The driver under test and how it is judged.
 #[derive(Debug, Clone, Args)]
 pub struct DriverOptions {
-    /// The driver under test: beamng-ai-proxy, dave2-proxy, or cmd:"COMMAND" for a controller
-    /// process (the controller protocol, docs/reference.md; taken only from this command line).
+    /// The driver under test: beamng-ai-proxy, dave2-proxy, onnx:FILE for a camera network in
+    /// ONNX (its contract: docs/reference.md), or cmd:"COMMAND" for a controller process (the
+    /// controller protocol, docs/reference.md); a model or command is taken only from here.
     #[arg(long = "oracle", value_name = "ORACLE", default_value = "beamng-ai-proxy", value_parser = oracle)]
     pub oracle: Oracle,
     /// DAVE-2 weights written by `wogan train-driver` [default: the built-in ones].
     #[arg(long, value_name = "FILE")]
     pub driver_weights: Option<PathBuf>,
-    /// The driver's speed limit, km/h [default: 70 for beamng-ai-proxy, 25 for dave2-proxy].
+    /// The driver's speed limit, km/h [default: 70 for beamng-ai-proxy and controllers, 25 for
+    /// dave2-proxy and onnx:FILE].
     #[arg(long, value_parser = positive_kmh, allow_negative_numbers = true)]
     pub speed_limit: Option<f64>,
-    /// A drive fails when its BOLP exceeds this [default: 0.85 for beamng-ai-proxy, 0.10 for
-    /// dave2-proxy].
+    /// A drive fails when its BOLP exceeds this [default: 0.85 for beamng-ai-proxy and
+    /// controllers, 0.10 for dave2-proxy and onnx:FILE].
     #[arg(long, value_parser = share, allow_negative_numbers = true)]
     pub oob_tolerance: Option<f64>,
     /// Side of the square map, metres.
@@ -47,6 +51,7 @@ impl DriverOptions {
         driver_config(
             self.kind(),
             self.oracle.command.as_deref(),
+            self.oracle.model.as_deref(),
             patch,
             self.driver_weights.as_deref(),
             "driver",
@@ -94,11 +99,13 @@ impl DriverOptions {
 
 /// Driver `kind` with its default tuning, `patch` (named `section` in errors) laid over it, and
 /// the DAVE-2 weights of the file `weights` if given (for `dave2-proxy` only). A controller's
-/// `command` comes only from the command line: with none (a run file's header), a controller is
-/// refused, naming the command the file records, and nothing is started.
+/// `command` and a camera network's `model` come only from the command line: with none (a run
+/// file's header), the driver is refused, naming what the file records, and nothing is started
+/// or loaded.
 pub fn driver_config(
     kind: DriverKind,
     command: Option<&str>,
+    model: Option<&Path>,
     patch: Option<&serde_json::Value>,
     weights: Option<&Path>,
     section: &str,
@@ -106,6 +113,9 @@ pub fn driver_config(
     let weights = weights.map(read_dave2_weights).transpose()?;
     if weights.is_some() && kind != DriverKind::Dave2Proxy {
         bail!("--driver-weights is for dave2-proxy, not {kind}");
+    }
+    if kind == DriverKind::Onnx {
+        return onnx_config(model, patch, section);
     }
     let Some(mut driver) = DriverConfig::built_in(kind) else {
         let Some(command) = command else {
@@ -148,9 +158,41 @@ pub fn driver_config(
                 *built_in = weights;
             }
         }
-        DriverConfig::Controller(_) => {}
+        DriverConfig::Controller(_) | DriverConfig::Onnx(_) => {}
     }
     Ok(driver)
+}
+
+/// A camera network: the model of `--oracle onnx:FILE`, loaded and checked, with `patch` laid
+/// over the contract's defaults. A file may tune the network, never name the model.
+fn onnx_config(
+    model: Option<&Path>,
+    patch: Option<&serde_json::Value>,
+    section: &str,
+) -> Result<DriverConfig> {
+    let Some(model) = model else {
+        let recorded = patch
+            .and_then(|p| p.get("model"))
+            .and_then(|c| c.as_str())
+            .unwrap_or("?");
+        bail!(
+            "the driver is a camera network ({recorded}); wogan loads a model only from the \
+             command line: give it yourself, e.g. --oracle onnx:{recorded}"
+        );
+    };
+    let mut patch = patch.cloned();
+    if let Some(serde_json::Value::Object(fields)) = &mut patch {
+        if fields.contains_key("model") || fields.contains_key("model_sha256") {
+            bail!(
+                "{section}.model: a camera network's model is taken only from --oracle onnx:FILE"
+            );
+        }
+    }
+    let params =
+        config_file::lay_over::<OnnxParams>(patch.as_ref(), OnnxParams::default(), section)?;
+    params.validate().context("invalid driver settings")?;
+    let config = OnnxConfig::load(model, params)?;
+    Ok(DriverConfig::Onnx(config))
 }
 
 /// DAVE-2 weights written by `wogan train-driver`.

@@ -29,7 +29,8 @@ pub struct RoadSut<'a> {
     pub fitness: FitnessKind,
     /// Set by Ctrl-C or SIGTERM: a drive in progress is cut short and not reported.
     pub stop: &'a AtomicBool,
-    /// Drives a controller process failed in a row (none counted when `None`).
+    /// Drives a controller process or camera network failed in a row (none counted when
+    /// `None`).
     pub streak: Option<&'a FailureStreak>,
 }
 
@@ -68,7 +69,11 @@ impl Sut for RoadSut<'_> {
         if let Some(streak) = self.streak {
             match (&result.reason, &result.error) {
                 (Some(StopReason::DriverFailed), Some(error)) => {
-                    streak.failed("the controller", error, self.stop)
+                    let what = match self.driver.kind() {
+                        road_sim::DriverKind::Onnx => "the camera network",
+                        _ => "the controller",
+                    };
+                    streak.failed(what, error, self.stop)
                 }
                 _ => streak.passed(),
             }

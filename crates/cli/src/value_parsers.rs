@@ -80,16 +80,20 @@ pub fn fraction(text: &str) -> Result<f64, String> {
     }
 }
 
-/// The driver under test as `--oracle` names it: a built-in driver, or `cmd:COMMAND`.
+/// The driver under test as `--oracle` names it: a built-in driver, `cmd:COMMAND` or
+/// `onnx:FILE`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Oracle {
     /// Which driver.
     pub kind: DriverKind,
     /// A controller's command, as typed after `cmd:`.
     pub command: Option<String>,
+    /// A camera network's model file, as typed after `onnx:`.
+    pub model: Option<std::path::PathBuf>,
 }
 
-/// A driver by name, or a controller process as `cmd:COMMAND` (`--oracle`).
+/// A driver by name, a controller process as `cmd:COMMAND`, or a camera network as `onnx:FILE`
+/// (`--oracle`).
 pub fn oracle(name: &str) -> Result<Oracle, String> {
     if let Some(command) = name.strip_prefix("cmd:") {
         if command.trim().is_empty() {
@@ -98,18 +102,31 @@ pub fn oracle(name: &str) -> Result<Oracle, String> {
         return Ok(Oracle {
             kind: DriverKind::Controller,
             command: Some(command.to_owned()),
+            model: None,
+        });
+    }
+    if let Some(file) = name.strip_prefix("onnx:") {
+        if file.is_empty() {
+            return Err("onnx: names no model file".into());
+        }
+        return Ok(Oracle {
+            kind: DriverKind::Onnx,
+            command: None,
+            model: Some(file.into()),
         });
     }
     let kind = DriverKind::from_name(name).ok_or_else(|| {
         let known: Vec<&str> = DriverKind::ALL.iter().map(|k| k.name()).collect();
         format!(
-            "unknown oracle {name:?}; known: {}, or cmd:\"COMMAND\" for a controller process",
+            "unknown oracle {name:?}; known: {}, onnx:FILE for a camera network in ONNX, or \
+             cmd:\"COMMAND\" for a controller process",
             known.join(", ")
         )
     })?;
     Ok(Oracle {
         kind,
         command: None,
+        model: None,
     })
 }
 
@@ -161,6 +178,10 @@ mod tests {
             Some("python3 keep.py --gain 2")
         );
         assert!(oracle("cmd: ").is_err());
+        let network = oracle("onnx:models/dave2.onnx").unwrap();
+        assert_eq!(network.kind, DriverKind::Onnx);
+        assert_eq!(network.model, Some("models/dave2.onnx".into()));
+        assert!(oracle("onnx:").unwrap_err().contains("no model file"));
         assert_eq!(fitness_kind("bolp-scaled"), Ok(FitnessKind::BolpScaled));
         assert!(fitness_kind("speed").is_err());
     }

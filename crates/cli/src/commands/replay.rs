@@ -76,6 +76,11 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
     let (sim, driver) = args
         .driver
         .resolve_for_driving(args.config.as_deref(), "replay")?;
+    if let DriverConfig::Onnx(network) = &driver {
+        for warning in changed_models(&args.files, network.model().sha256()) {
+            eprintln!("wogan replay: {warning}");
+        }
+    }
     let (roads, mut problems) = read_saved_roads(&args.files, args.driver.map_size);
     for problem in &problems {
         eprintln!("wogan replay: {problem}");
@@ -239,4 +244,43 @@ fn write_junit(
         ("wogan", crate::records::VERSION.to_owned()),
     ];
     junit::write_report(path, "wogan replay", &properties, &cases)
+}
+
+/// For each run file among `files` whose header records a camera network of another checksum
+/// than `sha256` (the model given now), a warning naming both: the roads are then not driven by
+/// the network the run tested. Files that cannot be read are reported when their roads are read.
+fn changed_models(files: &[std::path::PathBuf], sha256: &str) -> Vec<String> {
+    use std::io::{BufRead, Read};
+    let mut warnings = Vec::new();
+    for file in files {
+        let Ok(opened) = std::fs::File::open(file) else {
+            continue;
+        };
+        let mut first = String::new();
+        // A header is one line; a longer first line is no run file's header.
+        let mut reader = std::io::BufReader::new(opened).take(1 << 20);
+        if reader.read_line(&mut first).is_err() {
+            continue;
+        }
+        let Ok(header) = serde_json::from_str::<serde_json::Value>(&first) else {
+            continue;
+        };
+        if header.get("type").and_then(|t| t.as_str()) != Some("header") {
+            continue;
+        }
+        let driver = &header["config"]["driver"];
+        if let (Some(recorded), Some(model)) = (
+            driver.get("model_sha256").and_then(|s| s.as_str()),
+            driver.get("model").and_then(|s| s.as_str()),
+        ) {
+            if recorded != sha256 {
+                warnings.push(format!(
+                    "{}: the run's model ({model}) had SHA-256 {recorded}; the model given now \
+                     has {sha256}: the roads are driven by another network than the run's",
+                    file.display()
+                ));
+            }
+        }
+    }
+    warnings
 }

@@ -226,7 +226,7 @@ fn reason_text(reason: StopReason) -> &'static str {
         StopReason::NonFiniteCommand => "the driver asked for a non-finite command",
         StopReason::SimTimeLimit => "the drive reached the simulated-time limit",
         StopReason::Interrupted => "the drive was interrupted",
-        StopReason::DriverFailed => "the driver (a controller process) failed",
+        StopReason::DriverFailed => "the driver (a controller process, a camera network) failed",
     }
 }
 

@@ -88,7 +88,7 @@ impl Replay {
             anyhow::anyhow!("the run's header: config.sim.{}: {}", e.path(), e.inner())
         })?;
         let tuning = header.config.get("driver");
-        let driver = driver_config(header.driver, None, tuning, weights, "config.driver")?;
+        let driver = driver_config(header.driver, None, None, tuning, weights, "config.driver")?;
         Ok(Self { sim, driver })
     }
 

@@ -4,6 +4,7 @@
 use super::beamng_ai::{self, BeamNgAiParams, BeamNgAiProxy};
 use super::controller::{self, ControllerConfig, ControllerParams};
 use super::dave2::{self, Dave2Driver, Dave2DriverParams};
+use super::onnx::{self, OnnxConfig, OnnxParams};
 use super::preset::DriverPreset;
 use crate::setting_checks::SettingsError;
 use crate::sim::Driver;
@@ -24,6 +25,9 @@ pub enum DriverKind {
     /// A lane keeper in another process, `--oracle cmd:"COMMAND"` (`controller`).
     #[serde(rename = "controller")]
     Controller,
+    /// A camera network in ONNX, `--oracle onnx:FILE` (`onnx`).
+    #[serde(rename = "onnx")]
+    Onnx,
 }
 
 /// A driver name that is not one of [`DriverKind::ALL`].
@@ -35,7 +39,8 @@ pub struct UnknownDriver {
 }
 
 impl DriverKind {
-    /// The built-in drivers, known by name (a controller is given by its command).
+    /// The built-in drivers, known by name (a controller is given by its command, a camera
+    /// network by its file).
     pub const ALL: [DriverKind; 2] = [DriverKind::BeamNgAiProxy, DriverKind::Dave2Proxy];
 
     /// The driver's name.
@@ -44,6 +49,7 @@ impl DriverKind {
             DriverKind::BeamNgAiProxy => "beamng-ai-proxy",
             DriverKind::Dave2Proxy => "dave2-proxy",
             DriverKind::Controller => "controller",
+            DriverKind::Onnx => "onnx",
         }
     }
 
@@ -58,6 +64,7 @@ impl DriverKind {
             DriverKind::BeamNgAiProxy => beamng_ai::PRESET,
             DriverKind::Dave2Proxy => dave2::PRESET,
             DriverKind::Controller => controller::PRESET,
+            DriverKind::Onnx => onnx::PRESET,
         }
     }
 }
@@ -93,11 +100,14 @@ pub enum DriverConfig {
     },
     /// A controller process, its command given on the command line.
     Controller(ControllerConfig),
+    /// A camera network, its model file given on the command line.
+    Onnx(OnnxConfig),
 }
 
 impl DriverConfig {
     /// The built-in driver `kind` with its default tuning (and the built-in DAVE-2 weights);
-    /// `None` for a controller, which needs its command.
+    /// `None` for a controller, which needs its command, and a camera network, which needs its
+    /// model.
     pub fn built_in(kind: DriverKind) -> Option<Self> {
         match kind {
             DriverKind::BeamNgAiProxy => Some(Self::BeamNgAiProxy(BeamNgAiParams::default())),
@@ -105,12 +115,13 @@ impl DriverConfig {
                 params: Dave2DriverParams::default(),
                 weights: dave2::embedded_weights(),
             }),
-            DriverKind::Controller => None,
+            DriverKind::Controller | DriverKind::Onnx => None,
         }
     }
 
     /// The built-in driver `kind` with its default tuning; a controller of no command (which
-    /// fails its first drive, saying so) for [`DriverKind::Controller`].
+    /// fails its first drive, saying so) for [`DriverKind::Controller`] and for
+    /// [`DriverKind::Onnx`] (which needs its model: see [`OnnxConfig::load`]).
     pub fn default_for(kind: DriverKind) -> Self {
         Self::built_in(kind).unwrap_or_else(|| {
             Self::Controller(ControllerConfig::new(
@@ -126,6 +137,7 @@ impl DriverConfig {
             Self::BeamNgAiProxy(_) => DriverKind::BeamNgAiProxy,
             Self::Dave2Proxy { .. } => DriverKind::Dave2Proxy,
             Self::Controller(_) => DriverKind::Controller,
+            Self::Onnx(_) => DriverKind::Onnx,
         }
     }
 
@@ -135,6 +147,7 @@ impl DriverConfig {
             Self::BeamNgAiProxy(params) => params.validate(),
             Self::Dave2Proxy { params, .. } => params.validate(),
             Self::Controller(config) => config.params.validate(),
+            Self::Onnx(config) => config.params.validate(),
         }
     }
 
@@ -144,6 +157,7 @@ impl DriverConfig {
             Self::BeamNgAiProxy(params) => Box::new(BeamNgAiProxy::new(*params)),
             Self::Dave2Proxy { params, weights } => Box::new(Dave2Driver::new(weights, *params)),
             Self::Controller(config) => Box::new(config.build()),
+            Self::Onnx(config) => Box::new(config.build()),
         }
     }
 }
@@ -163,6 +177,23 @@ impl Serialize for DriverConfig {
                 }
                 Recorded {
                     command: &config.command,
+                    params: &config.params,
+                }
+                .serialize(serializer)
+            }
+            // The model's path and checksum are recorded: a replay names the model itself and
+            // is warned when the file it names has another checksum.
+            Self::Onnx(config) => {
+                #[derive(Serialize)]
+                struct Recorded<'a> {
+                    model: String,
+                    model_sha256: &'a str,
+                    #[serde(flatten)]
+                    params: &'a OnnxParams,
+                }
+                Recorded {
+                    model: config.model().path().display().to_string(),
+                    model_sha256: config.model().sha256(),
                     params: &config.params,
                 }
                 .serialize(serializer)

@@ -1,6 +1,6 @@
 //! The drivers under test: `beamng-ai-proxy` (a geometric lane keeper), `dave2-proxy` (DAVE-2
-//! steering from the camera) and a controller process (`--oracle cmd:...`), each with its preset
-//! and tuning.
+//! steering from the camera), a camera network in ONNX (`--oracle onnx:FILE`) and a controller
+//! process (`--oracle cmd:...`), each with its preset and tuning.
 //!
 //! The interface a driver fills, [`Driver`], belongs to the episode that calls it
 //! ([`crate::sim`]); it is re-exported here so that a new driver finds everything in one place.
@@ -9,6 +9,7 @@ pub mod beamng_ai;
 mod config;
 pub mod controller;
 pub mod dave2;
+pub mod onnx;
 mod pedals;
 mod preset;
 
@@ -17,6 +18,7 @@ pub use beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
 pub use config::{DriverConfig, DriverKind, UnknownDriver};
 pub use controller::{ControllerConfig, ControllerParams};
 pub use dave2::{Dave2Driver, Dave2DriverParams};
+pub use onnx::{OnnxConfig, OnnxError, OnnxParams};
 pub use pedals::pedals;
 pub use preset::DriverPreset;
 

@@ -44,8 +44,8 @@ pub enum StopReason {
     SimTimeLimit,
     /// The caller's stop flag cut the drive short.
     Interrupted,
-    /// The driver failed (a controller process ended, answered late or wrongly): the result's
-    /// `error` says how.
+    /// The driver failed (a controller process ended, answered late or wrongly; a camera network
+    /// answered NaN or failed to run): the result's `error` says how.
     DriverFailed,
 }
 

@@ -429,11 +429,26 @@ impl Camera {
     /// The same picture in colour.
     pub fn render_rgb(&self, scene: &RoadScene, position: Point, heading_rad: f64) -> Frame {
         let mut f = Frame::new(self.params.width, self.params.height, 3);
-        let data = &mut f.data;
+        self.render_rgb_into(scene, position, heading_rad, &mut f);
+        f
+    }
+
+    /// Renders the colour frame into `out` (resized if needed).
+    pub fn render_rgb_into(
+        &self,
+        scene: &RoadScene,
+        position: Point,
+        heading_rad: f64,
+        out: &mut Frame,
+    ) {
+        let (w, h) = (self.params.width, self.params.height);
+        if out.width != w || out.height != h || out.channels != 3 {
+            *out = Frame::new(w, h, 3);
+        }
+        let data = &mut out.data;
         self.classify(scene, position, heading_rad, |i, s| {
             data[3 * i..3 * i + 3].copy_from_slice(&RGB[s as usize]);
         });
-        f
     }
 }
 
