@@ -202,18 +202,23 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
     text
 }
 
-/// Reads the header's grouping fields. The configuration is read by path, so that runs written
-/// by older versions (other layouts) still group.
-fn read_header(header: &Header) -> RunHeader {
-    let text = |v: Option<&Value>| match v {
+/// A setting as a [`RunKey`] holds it: a number as the number it is (so that a limit written `70`
+/// groups with `70.0`), `?` when unknown.
+pub fn key_text(value: Option<&Value>) -> String {
+    match value {
         Some(Value::String(s)) => s.clone(),
-        // As the number it is, so that a limit written `70` groups with `70.0`.
         Some(Value::Number(n)) => n
             .as_f64()
             .map_or_else(|| n.to_string(), |f| Value::from(f).to_string()),
         Some(Value::Null) | None => "?".to_owned(),
         Some(other) => other.to_string(),
-    };
+    }
+}
+
+/// Reads the header's grouping fields. The configuration is read by path, so that runs written
+/// by older versions (other layouts) still group.
+fn read_header(header: &Header) -> RunHeader {
+    let text = key_text;
     let sim = header.config.get("sim");
     let oob = sim.and_then(|s| s.get("oob_tolerance"));
     let speed = sim.and_then(|s| s.get("speed_limit_kmh"));
