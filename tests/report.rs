@@ -1156,8 +1156,8 @@ fn a_result_folder_reads_as_the_run_it_was_exported_from() {
         assert_eq!(a, b, "{measure}");
     }
 
-    // The harness's layout: summary.json names the configuration, an invalid test counts as an
-    // invalid candidate, and tests.jsonl beside the tests is not read as a run.
+    // The harness's layout: summary.json names the configuration, an invalid test counts as
+    // generated, and tests.jsonl beside the tests is not read as a run.
     let peer = out.join("peers/beamng.fake.1");
     std::fs::create_dir_all(&peer).unwrap();
     for id in 1..=100 {
@@ -1194,8 +1194,13 @@ fn a_result_folder_reads_as_the_run_it_was_exported_from() {
         "{stdout}"
     );
     assert_eq!(vs_cells(&vs, "distinct failures per run"), distinct);
+    // The invalid test was generated, as the pipeline counts it, and not rejected by wogan.
+    let generated = vs_cells(&vs, "tests generated (handed to execution)");
+    assert_eq!(generated.0, "101.000 (–) n=1");
+    let effectiveness = vs_cells(&vs, "effectiveness (valid / generated)");
+    assert_eq!(effectiveness.0, "0.990 (–) n=1");
     let invalid = vs_cells(&vs, "invalid candidates rejected before proposing");
-    assert_eq!(invalid.0, "1.000 (–) n=1");
+    assert_eq!(invalid.0, "0.000 (–) n=1");
 
     // A truncated file and a foreign one: each named with its field, the rest read, exit 1.
     let text = read(&peer.join("test.0004.json"));

@@ -86,6 +86,9 @@ pub struct RunFile {
     pub beyond_budget: Vec<TestRecord>,
     /// Training time from the `train` records, milliseconds.
     pub train_ms: f64,
+    /// Tests the competition's pipeline found invalid and never executed (a result folder's),
+    /// which it counts as generated; 0 for `wogan run`, which validates before it proposes.
+    pub pipeline_invalid: usize,
     /// The summary; `None` for a truncated run.
     pub summary: Option<SummaryRecord>,
     /// `file:line: problem` for each line that could not be read.
@@ -124,6 +127,7 @@ pub fn read_run(path: &Path) -> Result<RunFile> {
         tests: Vec::new(),
         beyond_budget: Vec::new(),
         train_ms: 0.0,
+        pipeline_invalid: 0,
         summary: None,
         problems: Vec::new(),
     };
@@ -364,6 +368,7 @@ mod tests {
                 .collect(),
             beyond_budget: vec![TestRecord::example(4, Outcome::Fail, 0)],
             train_ms: 0.0,
+            pipeline_invalid: 0,
             summary: None,
             problems: Vec::new(),
         };

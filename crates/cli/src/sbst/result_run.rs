@@ -4,8 +4,8 @@
 //!
 //! The folder's `test.NNNN.json` files, in number order (the order the pipeline generated the
 //! tests in), make the run. A test the pipeline found invalid (`is_valid` false: stored, never
-//! executed) is no test of the run but an invalid candidate of the next valid one, as the pipeline
-//! counts it only as generated. Every valid test is an executed test: its outcome is the
+//! executed) is no test of the run; it counts as the pipeline counts it, generated but not valid
+//! ([`RunFile::pipeline_invalid`]). Every valid test is an executed test: its outcome is the
 //! pipeline's `test_outcome`, its largest BOLP the largest `oob_percentage` of its
 //! `execution_data`, and where the car left its lane the `pos` of the first record with `is_oob`
 //! (the sample at which wogan's simulator stops a drive that fails out of its lane), so that the
@@ -51,25 +51,19 @@ pub fn read_result_folder(dir: &Path) -> Result<RunFile> {
     let mut problems = Vec::new();
     let (header, wall_s) = folder_header(dir, &mut problems);
     let mut tests: Vec<TestRecord> = Vec::new();
-    let (mut invalid_since, mut invalid_total) = (0, 0);
+    let mut pipeline_invalid = 0;
     for file in &files {
         match read_test_file(file) {
-            Ok(None) => invalid_since += 1,
-            Ok(Some(mut test)) => {
-                test.invalid_candidates = invalid_since;
-                invalid_total += invalid_since;
-                invalid_since = 0;
-                tests.push(test);
-            }
+            Ok(None) => pipeline_invalid += 1,
+            Ok(Some(test)) => tests.push(test),
             Err(problem) => problems.push(format!("{}: {problem}", file.display())),
         }
     }
-    // Invalid tests after the last valid one were generated too.
-    invalid_total += invalid_since;
     let summary = SummaryRecord {
         executed: tests.len(),
         failed: tests.iter().filter(|t| t.failed()).count(),
-        invalid_candidates: invalid_total,
+        // What a generator rejected before proposing is not in the folder.
+        invalid_candidates: 0,
         wall_s,
         generation_s: f64::NAN,
         training_s: 0.0,
@@ -92,6 +86,7 @@ pub fn read_result_folder(dir: &Path) -> Result<RunFile> {
         tests,
         beyond_budget: Vec::new(),
         train_ms: 0.0,
+        pipeline_invalid,
         summary: Some(summary),
         problems,
     })
@@ -268,7 +263,8 @@ struct Drive {
 
 impl Drive {
     /// Reads the records, each the pipeline's array of fields in its order (as
-    /// `SimulationDataRecord` is written) or an object of them by name.
+    /// `SimulationDataRecord` is written; the 2021 layout is the same without the last field) or
+    /// an object of them by name.
     fn of(records: &[Value]) -> Result<Self, String> {
         let mut drive = Drive {
             max_bolp: f64::NAN,
@@ -293,7 +289,14 @@ impl Drive {
                     .ok_or_else(|| format!("execution_data[{i}]: {name}: expected a number"))
             };
             let timer = number("timer")?;
-            let bolp = number("oob_percentage")?;
+            let bolp = match field("oob_percentage") {
+                Ok(_) => number("oob_percentage")?,
+                // The pipeline's records before February 2021 (the 2021 competition's, 16
+                // fields) end before `oob_percentage`: the largest share out of the lane the
+                // monitor kept stands in (our harness keeps the running maximum there).
+                Err(_) if field("max_oob_percentage").is_ok() => number("max_oob_percentage")?,
+                Err(missing) => return Err(missing),
+            };
             let is_oob = field("is_oob")?
                 .as_bool()
                 .ok_or_else(|| format!("execution_data[{i}]: is_oob: expected true or false"))?;
@@ -397,6 +400,15 @@ mod tests {
         assert_eq!(drive.max_bolp, 0.95);
         assert_eq!(drive.last_timer, 2.0);
         assert_eq!(drive.exit, Some((1.0, [101.0, 30.0])));
+        // The 2021 layout: the same fields without the last, oob_percentage.
+        let mut old = record(1.0, 101.0, 0.9, true);
+        old[14] = json!(0.92);
+        old.as_array_mut().unwrap().pop();
+        let drive = Drive::of(&[old]).unwrap();
+        assert_eq!(
+            (drive.max_bolp, drive.exit),
+            (0.92, Some((1.0, [101.0, 30.0])))
+        );
         let empty = Drive::of(&[]).unwrap();
         assert!(empty.max_bolp.is_nan() && empty.exit.is_none());
         let short = Drive::of(&[json!([0.5])]).unwrap_err();
@@ -447,17 +459,14 @@ mod tests {
             "sbst:FreneticV / dave2-proxy / fitness - / oob 0.1 / 25.0 km/h"
         );
         assert_eq!(run.header.as_ref().unwrap().seed, Some(4));
-        let ids: Vec<(usize, usize)> = run
-            .tests
-            .iter()
-            .map(|t| (t.id, t.invalid_candidates))
-            .collect();
-        assert_eq!(ids, [(1, 0), (4, 2)]);
+        let ids: Vec<usize> = run.tests.iter().map(|t| t.id).collect();
+        assert_eq!(ids, [1, 4]);
         let summary = run.summary.as_ref().unwrap();
-        assert_eq!(
-            (summary.executed, summary.failed, summary.invalid_candidates),
-            (2, 1, 3)
-        );
+        assert_eq!((summary.executed, summary.failed), (2, 1));
+        // The pipeline's totals: three invalid tests generated, two valid.
+        assert_eq!(run.pipeline_invalid, 3);
+        let stats = super::super::metrics::GenerationStats::of(&run);
+        assert_eq!((stats.generated, stats.valid, stats.invalid), (5, 2, 3));
         let failed = &run.tests[1].execution.result;
         assert_eq!(failed.reason, Some(StopReason::OutOfLane));
         assert_eq!(failed.max_bolp, 0.9);
