@@ -1092,3 +1092,140 @@ fn distinct_failures_count_roads_apart_around_their_exits() {
         "{vs}"
     );
 }
+
+/// The cells of the `--vs` table's row for `measure`: A's and B's `mean (SD) n=N`.
+fn vs_cells(output: &std::process::Output, measure: &str) -> (String, String) {
+    let rows = table_rows(output);
+    let row = rows
+        .iter()
+        .find(|r| r[0] == measure)
+        .unwrap_or_else(|| panic!("no row {measure:?} in {rows:?}"));
+    (row[1].clone(), row[2].clone())
+}
+
+/// A run of this build and its `wogan export`, and both read by `wogan report`: the result folder
+/// reader and the run file reader give the same failures, distinct failures, diversity and lane
+/// exits. (100 tests at seed 3: 8 failures of 3 distinct kinds with this build; 30 tests fail none.)
+#[test]
+fn a_result_folder_reads_as_the_run_it_was_exported_from() {
+    let out = scratch_dir("report-result-folder");
+    let run = out.join("run.jsonl");
+    let args = ["run", "--quiet", "--max-tests", "100", "--seed", "3"];
+    wogan_ok(&[&args[..], &["--out", path_str(&run)]].concat(), "");
+    let export = out.join("export");
+    wogan_ok(
+        &[
+            "export",
+            "--format",
+            "sbst",
+            path_str(&run),
+            path_str(&export),
+        ],
+        "",
+    );
+    let vs = wogan_ok(
+        &[
+            "report",
+            path_str(&export),
+            "--vs",
+            path_str(&run),
+            "--table",
+        ],
+        "",
+    );
+    let stdout = String::from_utf8_lossy(&vs.stdout);
+    // No file says the export's driver or tolerance: they read `?`, the algorithm is the folder.
+    assert!(
+        stdout.contains("- A: sbst:export / ? / fitness - / oob ? / ? km/h"),
+        "{stdout}"
+    );
+    let failures = vs_cells(&vs, "failures per run");
+    assert_eq!(failures.0, failures.1);
+    assert_ne!(failures.0, "0.000 (–) n=1", "the run must fail some tests");
+    let distinct = vs_cells(&vs, "distinct failures per run");
+    assert_eq!(distinct.0, distinct.1);
+    assert_ne!(distinct.0, "0.000 (–) n=1");
+    for measure in [
+        "diversity",
+        "first failing test (a run without one: tests executed + 1)",
+        "tests generated (handed to execution)",
+        "lane exits over the centre line (left)",
+        "lane exits over the road's edge (right)",
+    ] {
+        let (a, b) = vs_cells(&vs, measure);
+        assert_eq!(a, b, "{measure}");
+    }
+
+    // The harness's layout: summary.json names the configuration, an invalid test counts as
+    // generated, and tests.jsonl beside the tests is not read as a run.
+    let peer = out.join("peers/beamng.fake.1");
+    std::fs::create_dir_all(&peer).unwrap();
+    for id in 1..=100 {
+        let from = export.join(format!("test.{id:04}.json"));
+        std::fs::copy(&from, peer.join(format!("test.{:04}.json", id + 1))).unwrap();
+    }
+    let invalid = json!({"id": 1, "is_valid": false, "validation_message": "Not in the map",
+        "road_points": [[0.0, 0.0], [-10.0, 0.0]], "interpolated_points": []});
+    std::fs::write(peer.join("test.0001.json"), invalid.to_string()).unwrap();
+    let summary = json!({"type": "summary", "generator": "fake.generators.FakeGen",
+        "oracle": "beamng-ai-proxy", "oob_tolerance": 0.85, "speed_limit": 70, "seed": 1});
+    std::fs::write(peer.join("summary.json"), summary.to_string()).unwrap();
+    std::fs::write(peer.join("tests.jsonl"), "{\"proposal\": 1}\n").unwrap();
+    let peers = out.join("peers");
+    let vs = wogan(
+        &[
+            "report",
+            path_str(&peers),
+            "--vs",
+            path_str(&run),
+            "--table",
+        ],
+        "",
+    );
+    let stderr = String::from_utf8_lossy(&vs.stderr);
+    assert_eq!(vs.status.code(), Some(0), "{stderr}");
+    assert!(
+        !stderr.contains("note: group A is of"),
+        "same conditions: {stderr}"
+    );
+    let stdout = String::from_utf8_lossy(&vs.stdout);
+    assert!(
+        stdout.contains("- A: sbst:FakeGen / beamng-ai-proxy / fitness - / oob 0.85 / 70.0 km/h"),
+        "{stdout}"
+    );
+    assert_eq!(vs_cells(&vs, "distinct failures per run"), distinct);
+    // The invalid test was generated, as the pipeline counts it, and not rejected by wogan.
+    let generated = vs_cells(&vs, "tests generated (handed to execution)");
+    assert_eq!(generated.0, "101.000 (–) n=1");
+    let effectiveness = vs_cells(&vs, "effectiveness (valid / generated)");
+    assert_eq!(effectiveness.0, "0.990 (–) n=1");
+    let invalid = vs_cells(&vs, "invalid candidates rejected before proposing");
+    assert_eq!(invalid.0, "0.000 (–) n=1");
+
+    // A truncated file and a foreign one: each named with its field, the rest read, exit 1.
+    let text = read(&peer.join("test.0004.json"));
+    std::fs::write(peer.join("test.0004.json"), &text[..text.len() / 2]).unwrap();
+    let foreign = json!({"is_valid": true, "road_points": [[10.0, 10.0], [10.0, 60.0]],
+        "test_outcome": "FAIL", "execution_data": [[0.5]]});
+    std::fs::write(peer.join("test.0005.json"), foreign.to_string()).unwrap();
+    let bad = wogan(&["report", path_str(&peer), "--table"], "");
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("test.0004.json: not JSON"), "{stderr}");
+    assert!(
+        stderr.contains("test.0005.json: execution_data[0]: oob_percentage: missing"),
+        "{stderr}"
+    );
+    let rows = table_rows(&bad);
+    assert_eq!(rows.len(), 1, "{rows:?}");
+    // The other tests are read with every failure: the broken files held tests 3 and 4 of the
+    // run, before its first failing test.
+    let (first, _) = vs_cells(
+        &vs,
+        "first failing test (a run without one: tests executed + 1)",
+    );
+    let first: f64 = first.split(' ').next().unwrap().parse().unwrap();
+    assert!(first > 5.0, "first failing test {first}");
+    let failed = failures.0.trim_end_matches(".000 (–) n=1");
+    assert_eq!(rows[0][2], format!("{failed} ({failed})"), "{rows:?}");
+}

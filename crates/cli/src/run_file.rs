@@ -86,6 +86,9 @@ pub struct RunFile {
     pub beyond_budget: Vec<TestRecord>,
     /// Training time from the `train` records, milliseconds.
     pub train_ms: f64,
+    /// Tests the competition's pipeline found invalid and never executed (a result folder's),
+    /// which it counts as generated; 0 for `wogan run`, which validates before it proposes.
+    pub pipeline_invalid: usize,
     /// The summary; `None` for a truncated run.
     pub summary: Option<SummaryRecord>,
     /// `file:line: problem` for each line that could not be read.
@@ -124,6 +127,7 @@ pub fn read_run(path: &Path) -> Result<RunFile> {
         tests: Vec::new(),
         beyond_budget: Vec::new(),
         train_ms: 0.0,
+        pipeline_invalid: 0,
         summary: None,
         problems: Vec::new(),
     };
@@ -202,18 +206,23 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
     text
 }
 
-/// Reads the header's grouping fields. The configuration is read by path, so that runs written
-/// by older versions (other layouts) still group.
-fn read_header(header: &Header) -> RunHeader {
-    let text = |v: Option<&Value>| match v {
+/// A setting as a [`RunKey`] holds it: a number as the number it is (so that a limit written `70`
+/// groups with `70.0`), `?` when unknown.
+pub fn key_text(value: Option<&Value>) -> String {
+    match value {
         Some(Value::String(s)) => s.clone(),
-        // As the number it is, so that a limit written `70` groups with `70.0`.
         Some(Value::Number(n)) => n
             .as_f64()
             .map_or_else(|| n.to_string(), |f| Value::from(f).to_string()),
         Some(Value::Null) | None => "?".to_owned(),
         Some(other) => other.to_string(),
-    };
+    }
+}
+
+/// Reads the header's grouping fields. The configuration is read by path, so that runs written
+/// by older versions (other layouts) still group.
+fn read_header(header: &Header) -> RunHeader {
+    let text = key_text;
     let sim = header.config.get("sim");
     let oob = sim.and_then(|s| s.get("oob_tolerance"));
     let speed = sim.and_then(|s| s.get("speed_limit_kmh"));
@@ -359,6 +368,7 @@ mod tests {
                 .collect(),
             beyond_budget: vec![TestRecord::example(4, Outcome::Fail, 0)],
             train_ms: 0.0,
+            pipeline_invalid: 0,
             summary: None,
             problems: Vec::new(),
         };

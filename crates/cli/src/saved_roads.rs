@@ -6,6 +6,7 @@
 
 use crate::json_lines::{json_values, open_input};
 use crate::records::{SuiteHeader, SuiteRoad, SUITE_FORMAT, SUITE_VERSION};
+use crate::sbst::format::test_files;
 use road_sim::road::input::parse_value;
 use road_sim::road::Point;
 use serde_json::Value;
@@ -48,23 +49,12 @@ pub fn read_saved_roads(paths: &[PathBuf], map_size_m: f64) -> (Vec<SavedRoad>, 
     (roads, problems)
 }
 
-/// `path` itself, or for a folder its `test.*.json` files (an export's) in name order.
+/// `path` itself, or for a folder its `test.NNNN.json` files (an export's) in number order.
 fn files_of(path: &Path) -> Result<Vec<PathBuf>, String> {
     if !path.is_dir() {
         return Ok(vec![path.to_path_buf()]);
     }
-    let entries =
-        std::fs::read_dir(path).map_err(|e| format!("{}: cannot list: {e}", path.display()))?;
-    let mut files: Vec<PathBuf> = entries
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with("test.") && n.ends_with(".json"))
-        })
-        .collect();
-    files.sort();
+    let files = test_files(path).map_err(|e| format!("{}: cannot list: {e}", path.display()))?;
     if files.is_empty() {
         return Err(format!(
             "{}: a folder without test.NNNN.json files (the competition's export)",

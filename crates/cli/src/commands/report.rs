@@ -13,8 +13,9 @@ use std::path::PathBuf;
 #[derive(Debug, Args)]
 pub struct ReportArgs {
     /// JSON lines of `wogan run` (repetitions, possibly of several configurations; a file given
-    /// twice counts once), or folders of them: every `*.jsonl` file at any depth, and a campaign
-    /// task's unfinished `*.jsonl.part`.
+    /// twice counts once), the competition's result folders (a folder of `test.NNNN.json`: one
+    /// run, a peer generator's or an export's), or folders of them: every `*.jsonl` file and
+    /// result folder at any depth, and a campaign task's unfinished `*.jsonl.part`.
     #[arg(value_name = "RUN")]
     pub runs: Vec<PathBuf>,
     /// Also report the runs (files or folders) listed in FILE, one path a line (`-`: standard

@@ -320,6 +320,7 @@ mod tests {
             tests,
             beyond_budget: Vec::new(),
             train_ms: 0.0,
+            pipeline_invalid: 0,
             summary: None,
             problems: Vec::new(),
         }

@@ -1,11 +1,16 @@
-//! Which files a report reads: run files named one by one, folders of them (a campaign's output,
+//! Which files a report reads: run files named one by one, result folders of the competition's
+//! pipeline (a peer generator's run, or `wogan export`'s), folders of them (a campaign's output,
 //! thousands of files that a shell glob could not pass), and lists of paths (`--from FILE`).
 //!
-//! A folder stands for the run files under it, at any depth, in path order: `*.jsonl`, and a
-//! campaign task's unfinished `*.jsonl.part` (examples/cluster/), which the report names as a run
-//! that did not end normally. Hidden entries (an atomic writer's temporary, `.git`) and linked
-//! folders (which could loop) are not walked.
+//! A folder that holds `test.NNNN.json` files directly is a result folder: one run, read by
+//! [`crate::sbst::read_result_folder`]; nothing else in it is read (our harness's `tests.jsonl`
+//! and `failing_roads.jsonl` are no run files). Any other folder stands for the runs under it, at
+//! any depth, in path order: result folders, `*.jsonl`, and a campaign task's unfinished
+//! `*.jsonl.part` (examples/cluster/), which the report names as a run that did not end normally.
+//! Hidden entries (an atomic writer's temporary, `.git`) and linked folders (which could loop) are
+//! not walked.
 
+use crate::sbst::is_result_folder;
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 
@@ -14,34 +19,47 @@ const RUN_SUFFIX: &str = ".jsonl";
 /// The ending of a campaign task's run file while it runs, or after it failed or was stopped.
 pub const UNFINISHED_SUFFIX: &str = ".jsonl.part";
 
-/// One file to read as a run.
+/// What an input is read as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InputKind {
+    /// JSON lines of `wogan run`.
+    RunFile,
+    /// The competition's result folder of `test.NNNN.json` files.
+    ResultFolder,
+}
+
+/// One file (or result folder) to read as a run.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RunInput {
     /// Where to read it.
     pub path: PathBuf,
+    /// What it is read as.
+    pub kind: InputKind,
     /// Whether it was found in a folder rather than named: a named file that cannot be read is
     /// bad usage, one found in a folder (a task's file renamed as it finished, say) a problem
     /// reported beside the rest.
     pub found: bool,
 }
 
-/// The run files `paths` stand for, in order: a file as itself, a folder as its run files.
-/// Fails on a folder that holds no run file, or one that cannot be listed.
+/// The runs `paths` stand for, in order: a file as itself, a result folder as one run, any other
+/// folder as the runs under it. Fails on a folder that holds no run, or one that cannot be listed.
 pub fn run_inputs(paths: &[PathBuf]) -> Result<Vec<RunInput>> {
     let mut inputs = Vec::new();
     for path in paths {
         if path.is_dir() {
             let before = inputs.len();
-            walk(path, &mut inputs)?;
+            walk(path, false, &mut inputs)?;
             if inputs.len() == before {
                 bail!(
-                    "{} holds no run file (*{RUN_SUFFIX} or *{UNFINISHED_SUFFIX}, at any depth)",
+                    "{} holds no run file (*{RUN_SUFFIX}, *{UNFINISHED_SUFFIX}, or a result folder of \
+                     test.NNNN.json files, at any depth)",
                     path.display()
                 );
             }
         } else {
             inputs.push(RunInput {
                 path: path.clone(),
+                kind: InputKind::RunFile,
                 found: false,
             });
         }
@@ -49,8 +67,17 @@ pub fn run_inputs(paths: &[PathBuf]) -> Result<Vec<RunInput>> {
     Ok(inputs)
 }
 
-/// Adds the run files under `dir` to `inputs`, in path order.
-fn walk(dir: &Path, inputs: &mut Vec<RunInput>) -> Result<()> {
+/// Adds the runs `dir` stands for to `inputs`, in path order; `found` when `dir` was found in a
+/// folder rather than named.
+fn walk(dir: &Path, found: bool, inputs: &mut Vec<RunInput>) -> Result<()> {
+    if is_result_folder(dir) {
+        inputs.push(RunInput {
+            path: dir.to_path_buf(),
+            kind: InputKind::ResultFolder,
+            found,
+        });
+        return Ok(());
+    }
     let listing =
         std::fs::read_dir(dir).with_context(|| format!("cannot list {}", dir.display()))?;
     let mut entries = Vec::new();
@@ -70,9 +97,13 @@ fn walk(dir: &Path, inputs: &mut Vec<RunInput>) -> Result<()> {
         // The entry itself: a linked folder is not followed; a link to a file is read.
         let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
         if is_dir {
-            walk(&path, inputs)?;
+            walk(&path, true, inputs)?;
         } else if is_run_file(name) && path.is_file() {
-            inputs.push(RunInput { path, found: true });
+            inputs.push(RunInput {
+                path,
+                kind: InputKind::RunFile,
+                found: true,
+            });
         }
     }
     Ok(())
@@ -134,6 +165,7 @@ mod tests {
         }
         let named = dir.join("b/y.jsonl.bak");
         let inputs = run_inputs(&[dir.clone(), named.clone()]).unwrap();
+        assert!(inputs.iter().all(|i| i.kind == InputKind::RunFile));
         let got: Vec<(String, bool)> = inputs
             .iter()
             .map(|i| {
@@ -180,6 +212,46 @@ mod tests {
             .to_string()
             .contains("names no file"));
         assert!(listed_paths(&dir.join("missing")).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_folder_of_test_files_is_one_run_and_nothing_in_it_is_walked() {
+        let dir = scratch("results");
+        for sub in ["peers/freneticv.1", "peers/ambiegen.1/nested", "wogan"] {
+            std::fs::create_dir_all(dir.join(sub)).unwrap();
+        }
+        for file in [
+            "peers/freneticv.1/test.0001.json",
+            "peers/freneticv.1/tests.jsonl",
+            "peers/freneticv.1/failing_roads.jsonl",
+            "peers/ambiegen.1/test.0001.json",
+            "peers/ambiegen.1/nested/x.jsonl",
+            "wogan/run.jsonl",
+        ] {
+            std::fs::write(dir.join(file), "").unwrap();
+        }
+        let inputs = run_inputs(std::slice::from_ref(&dir)).unwrap();
+        let got: Vec<(String, InputKind, bool)> = inputs
+            .iter()
+            .map(|i| {
+                let relative = i.path.strip_prefix(&dir).unwrap();
+                (relative.display().to_string(), i.kind, i.found)
+            })
+            .collect();
+        let folder = InputKind::ResultFolder;
+        assert_eq!(
+            got,
+            [
+                ("peers/ambiegen.1".to_owned(), folder, true),
+                ("peers/freneticv.1".to_owned(), folder, true),
+                ("wogan/run.jsonl".to_owned(), InputKind::RunFile, true),
+            ]
+        );
+        // Named, a result folder is itself.
+        let named = run_inputs(&[dir.join("peers/freneticv.1")]).unwrap();
+        assert_eq!(named.len(), 1);
+        assert_eq!((named[0].kind, named[0].found), (folder, false));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -2,10 +2,11 @@
 //! is like with like, and the report written from the groups.
 
 use super::group::{GroupFigures, RunMeasures};
-use super::inputs::{run_inputs, RunInput};
+use super::inputs::{run_inputs, InputKind, RunInput};
 use super::markdown::{self, GroupSection};
 use super::pictures::draw_group;
 use crate::run_file::{read_run, RunFile, RunKey};
+use crate::sbst::read_result_folder;
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
@@ -190,6 +191,8 @@ struct GivenFile {
     path: PathBuf,
     /// The canonical path.
     file: PathBuf,
+    /// What it is read as.
+    kind: InputKind,
     /// Whether it was found in a folder rather than named.
     found: bool,
 }
@@ -215,6 +218,7 @@ fn distinct(inputs: &[RunInput]) -> Vec<GivenFile> {
         files.push(GivenFile {
             path: path.clone(),
             file,
+            kind: input.kind,
             found: input.found,
         });
     }
@@ -281,7 +285,10 @@ fn read_runs(files: &[GivenFile], keep: Keep, problems: &mut Vec<String>) -> Res
     let read: Vec<Result<ReadRun>> = files
         .par_iter()
         .map(|f| {
-            let mut run = read_run(&f.path)?;
+            let mut run = match f.kind {
+                InputKind::RunFile => read_run(&f.path)?,
+                InputKind::ResultFolder => read_result_folder(&f.path)?,
+            };
             let measures = (keep == Keep::Measures).then(|| {
                 let measures = RunMeasures::of(&run);
                 run.tests.retain(|t| t.failed());

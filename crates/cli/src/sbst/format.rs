@@ -19,6 +19,7 @@
 
 use road_sim::{Outcome, Point, Sample, SimResult, StopReason};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::path::{Path, PathBuf};
 
 /// Height of the competition level's road surface, metres: the `z` of every position.
 pub const ROAD_HEIGHT_M: f64 = -28.0;
@@ -64,7 +65,7 @@ pub struct ExecutionRecord {
 }
 
 /// The pipeline's field names, in its order (`SimulationDataRecordProperties`).
-const FIELDS: [&str; 17] = [
+pub const FIELDS: [&str; 17] = [
     "timer",
     "pos",
     "dir",
@@ -230,6 +231,33 @@ fn reason_text(reason: StopReason) -> &'static str {
     }
 }
 
+/// The number of a test file's name as the pipeline writes it, `test.NNNN.json` (`NNNN` the
+/// test's id, zero-padded to 4 digits or more); `None` for any other name.
+pub fn test_file_number(name: &str) -> Option<u64> {
+    let digits = name.strip_prefix("test.")?.strip_suffix(".json")?;
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    digits.parse().ok()
+}
+
+/// The `test.NNNN.json` files directly in `dir` (a result folder's, or an export's), in the
+/// order of their numbers, which is the order the pipeline generated the tests in.
+pub fn test_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let number = entry.file_name().to_str().and_then(test_file_number);
+        // A folder or a link to one under a test file's name is not a test.
+        if let Some(number) = number.filter(|_| entry.path().is_file()) {
+            files.push((number, entry.path()));
+        }
+    }
+    // By number, then name, so that `test.10000.json` follows `test.9999.json`.
+    files.sort();
+    Ok(files.into_iter().map(|(_, path)| path).collect())
+}
+
 /// The competition's features of a test.
 #[derive(Debug, Serialize)]
 pub struct Features {
@@ -329,5 +357,40 @@ mod tests {
         assert_eq!(fields[16], 0.9);
         let back: ExecutionRecord = serde_json::from_value(json).unwrap();
         assert_eq!(back, record);
+    }
+
+    #[test]
+    fn test_files_are_known_by_name_and_taken_in_number_order() {
+        assert_eq!(test_file_number("test.0001.json"), Some(1));
+        assert_eq!(test_file_number("test.12345.json"), Some(12345));
+        for name in [
+            "test..json",
+            "test.1a.json",
+            "test.0001.json.bak",
+            "tests.jsonl",
+        ] {
+            assert_eq!(test_file_number(name), None, "{name}");
+        }
+        let dir = std::env::temp_dir().join(format!("wogan-test-files-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("test.0003.json")).unwrap();
+        for name in [
+            "test.10000.json",
+            "test.9999.json",
+            "test.0002.json",
+            "summary.json",
+        ] {
+            std::fs::write(dir.join(name), "{}").unwrap();
+        }
+        let names: Vec<String> = test_files(&dir)
+            .unwrap()
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(
+            names,
+            ["test.0002.json", "test.9999.json", "test.10000.json"]
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

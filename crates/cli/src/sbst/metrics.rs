@@ -63,10 +63,12 @@ impl GenerationStats {
                 None => (sum(&mut handed(), |t| t.generation_ms) + run.train_ms) / 1000.0,
             }
         };
+        // Tests the pipeline found invalid were generated too (a result folder's).
+        let invalid = run.pipeline_invalid as u64;
         Self {
-            generated,
+            generated: generated + invalid,
             valid: generated,
-            invalid: 0,
+            invalid,
             passed: count(Outcome::Pass),
             failed: count(Outcome::Fail),
             in_error: count(Outcome::Error),
@@ -98,7 +100,8 @@ impl GenerationStats {
 /// The competition's measures of a run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SbstMeasures {
-    /// Tests handed to execution (kept, and the one beyond a budget).
+    /// Tests handed to execution (kept, and the one beyond a budget; and those the pipeline found
+    /// invalid, in a result folder).
     pub generated: usize,
     /// Valid tests over generated ones: 1 for wogan, which validates before it proposes.
     pub effectiveness: Option<f64>,

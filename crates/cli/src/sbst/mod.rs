@@ -2,11 +2,13 @@
 //! has it: the files it writes and reads ([`format`]: execution records, test objects), the
 //! measures it scores a generator by ([`metrics`]: generation totals, effectiveness, efficiency,
 //! the `OOBAnalyzer`'s sides and sparseness) and its result folder ([`result_folder`], written by
-//! `wogan export`). The validity rules and the OOB analysis themselves are `road_sim::validator`
+//! `wogan export`, and [`result_run`], one read back as a run for `wogan report`). The validity rules and the OOB analysis themselves are `road_sim::validator`
 //! and `road_sim::oob`.
 
 pub mod format;
 pub mod metrics;
 mod result_folder;
+mod result_run;
 
 pub use result_folder::write_result_folder;
+pub use result_run::{is_result_folder, read_result_folder};

@@ -3,7 +3,7 @@
 //! summary). The execution records come from driving each test again with the run's settings,
 //! checked to replay the recorded drive exactly.
 
-use super::format::{description, execution_data, CompetitionTest, Features};
+use super::format::{description, execution_data, test_file_number, CompetitionTest, Features};
 use super::metrics::{oob_summary, GenerationStats};
 use crate::driver_options::driver_config;
 use crate::records::TestRecord;
@@ -118,12 +118,7 @@ impl Replay {
 /// Whether a file named `name` is one that export writes: `test.NNNN.json` (`NNNN` the test's
 /// id, 4 digits or more), `generation_stats.csv` or `oob_stats.csv`.
 fn is_export_file(name: &str) -> bool {
-    let id = name
-        .strip_prefix("test.")
-        .and_then(|rest| rest.strip_suffix(".json"));
-    name == STATS_FILE
-        || name == OOB_STATS_FILE
-        || id.is_some_and(|id| !id.is_empty() && id.bytes().all(|b| b.is_ascii_digit()))
+    name == STATS_FILE || name == OOB_STATS_FILE || test_file_number(name).is_some()
 }
 
 /// Makes `dir` ready for the export: creates it when missing; an empty one is fine. One holding
