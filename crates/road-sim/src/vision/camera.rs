@@ -401,6 +401,15 @@ impl Camera {
         }
     }
 
+    /// The pixels of `out`, made this camera's size with `channels` channels if it is not.
+    fn sized<'f>(&self, out: &'f mut Frame, channels: usize) -> &'f mut [u8] {
+        let (w, h) = (self.params.width, self.params.height);
+        if out.width != w || out.height != h || out.channels != channels {
+            *out = Frame::new(w, h, channels);
+        }
+        &mut out.data
+    }
+
     /// Renders the grayscale frame into `out` (resized if needed).
     pub fn render_into(
         &self,
@@ -409,11 +418,7 @@ impl Camera {
         heading_rad: f64,
         out: &mut Frame,
     ) {
-        let (w, h) = (self.params.width, self.params.height);
-        if out.width != w || out.height != h || out.channels != 1 {
-            *out = Frame::new(w, h, 1);
-        }
-        let data = &mut out.data;
+        let data = self.sized(out, 1);
         self.classify(scene, position, heading_rad, |i, s| {
             data[i] = GRAY[s as usize];
         });
@@ -441,11 +446,7 @@ impl Camera {
         heading_rad: f64,
         out: &mut Frame,
     ) {
-        let (w, h) = (self.params.width, self.params.height);
-        if out.width != w || out.height != h || out.channels != 3 {
-            *out = Frame::new(w, h, 3);
-        }
-        let data = &mut out.data;
+        let data = self.sized(out, 3);
         self.classify(scene, position, heading_rad, |i, s| {
             data[3 * i..3 * i + 3].copy_from_slice(&RGB[s as usize]);
         });
