@@ -13,6 +13,7 @@
 #   target/effectiveness/ORACLE.TAG.ALGORITHM.SEED.jsonl   scripts/search_figures.sh (seeds 1-20)
 #   target/stgem/ORACLE.stgem.SEED.jsonl                   scripts/reference/stgem_search.py
 #   target/sbst/ORACLE.ALGORITHM.SEED.jsonl                 scripts/sbst_budget_runs.sh (optional)
+#   target/peers/ORACLE.TOOL.SEED/                         scripts/peers/campaign.sh (optional)
 #   target/criterion/**/new/estimates.json                 cargo bench (commands in the output)
 #   target/results/train-driver.json (optional)            wogan train-driver --seed 1 ... (below)
 #   tests/reference/*.jsonl                                the competition's vectors
@@ -314,6 +315,92 @@ def sbst_section():
         out()
         for line in report_table(*wogan, "--vs", *random):
             out(line)
+
+
+# ---------------------------------------------------------------------------------------------
+# The SBST 2022 field (issue 38): the peers' result folders (scripts/peers/campaign.sh) beside
+# wogan's runs under the same budgets (scripts/sbst_budget_runs.sh), with `wogan report`'s
+# measures of each group, and the preset's comparison with every other row.
+PEERS = [("random", "the pipeline's random generator"), ("freneticv", "FreneticV"),
+         ("ambiegen", "AmbieGen"), ("adafrenetic", "AdaFrenetic"), ("frenetic2021", "Frenetic (2021)")]
+OURS = [("preset-sbst", "wogan `--preset sbst`"), ("wogan", "wogan, the paper's WOGAN"),
+        ("random", "wogan, random search")]
+FIELD_ROWS = [("tests executed", "tests"), ("failures", "failures"),
+              ("failures per simulated hour", "failures / sim. h"),
+              ("lane exits over the centre line (left)", "exits left"),
+              ("lane exits over the road's edge (right)", "exits right"),
+              ("sparseness mean over the OOBs it places", "sparseness"),
+              ("diversity (", "diversity"), ("distinct failures (", "distinct failures"),
+              ("failing road length", "failing road length (m)")]
+FIELD_COMPARED = ("failures per run", "diversity", "distinct failures per run")
+
+
+def group_means(paths):
+    """{measure name: (mean, runs)} of one group, from `wogan report PATHS --out DIR`."""
+    folder = os.path.join(WORK, "field-report")
+    done = subprocess.run([WOGAN, "report", *paths, "--out", folder], capture_output=True, text=True)
+    if done.returncode not in (0, 1):
+        sys.exit(f"results.sh: wogan report of {paths[0]}...: {done.stderr.strip()}")
+    figures = {}
+    for line in open(os.path.join(folder, "report.md")):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 4 and cells[1] not in ("mean", "---", ""):
+            figures.setdefault(cells[0], (cells[1], cells[3]))
+    return figures
+
+
+def field_section():
+    out()
+    out("## The SBST 2022 field on our simulator")
+    out()
+    out("The public SBST 2022 generators, unchanged, in the competition's own pipeline with "
+        "`wogan simulate` as its simulator (`scripts/peers/`: `PEERS_HOME=... "
+        "scripts/peers/campaign.sh`), and wogan's runs under the same budgets (`--generation-budget "
+        "1h --execution-budget 2h`: `scripts/sbst_budget_runs.sh`; the preset's runs with "
+        "`ALGORITHMS=preset-sbst`). Every figure is `wogan report`'s, computed the same way for "
+        "every run: means over runs (their number in brackets). The peers' seeds seed Python's and "
+        "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated.")
+    for oracle in ORACLES:
+        groups = []
+        for tag, name in OURS:
+            paths = [p for p in (f"target/sbst/{oracle}.{tag}.{s}.jsonl" for s in SEEDS) if os.path.exists(p)]
+            groups.append((name, paths))
+        for tool, name in PEERS:
+            paths = sorted(glob.glob(f"target/peers/{oracle}.{tool}.*/summary.json"))
+            groups.append((name, [os.path.dirname(p) for p in paths]))
+        out()
+        out(f"### {oracle}")
+        out()
+        out("| tool | runs | " + " | ".join(label for _, label in FIELD_ROWS) + " |")
+        out("|---|---|" + "---|" * len(FIELD_ROWS))
+        for name, paths in groups:
+            if not paths:
+                out(f"| {name} | 0 |" + " – |" * len(FIELD_ROWS))
+                continue
+            figures = group_means(paths)
+            cells = []
+            for key, _ in FIELD_ROWS:
+                found = next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))
+                cells.append(found[0])
+            out(f"| {name} | {len(paths)} | " + " | ".join(cells) + " |")
+        preset = groups[0][1]
+        if not preset:
+            continue
+        out()
+        out("`--preset sbst` (A) against each other row (B), Mann–Whitney U, two-sided:")
+        out()
+        out("| B | " + " | ".join(f"{m}: A / B, p" for m in FIELD_COMPARED) + " |")
+        out("|---|" + "---|" * len(FIELD_COMPARED))
+        for name, paths in groups[1:]:
+            if not paths:
+                continue
+            rows = {}
+            for line in report_table(*preset, "--vs", *paths):
+                cells = [c.strip() for c in line.strip().strip("|").split("|")]
+                if cells and cells[0] in FIELD_COMPARED:
+                    a, b, p = cells[1].split(" (")[0], cells[2].split(" (")[0], cells[4]
+                    rows[cells[0]] = f"{a} / {b}, {p}"
+            out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -772,6 +859,7 @@ def sections(bench):
         ("search", search_section),
         ("comparisons", comparisons_section),
         ("sbst", sbst_section),
+        ("field", field_section),
         ("generator", generator_section),
         ("ci", ci_section),
         ("plug-points", plug_points_section),

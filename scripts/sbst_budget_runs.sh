@@ -6,7 +6,8 @@
 #   scripts/sbst_budget_runs.sh [ORACLE] [SEEDS] [GENERATION] [EXECUTION]
 #   scripts/sbst_budget_runs.sh beamng-ai-proxy "$(seq -s ' ' 1 20)" 1h 2h
 #
-# ALGORITHMS chooses the algorithms (default "wogan random"). Runs go to target/sbst/ as
+# ALGORITHMS chooses the algorithms (default "wogan random"; "preset-sbst" is WOGAN with
+# `--preset sbst`). Runs go to target/sbst/ as
 # ORACLE.ALGORITHM.SEED.jsonl, exports to target/sbst/export/ORACLE.ALGORITHM.SEED/, the report to
 # target/sbst/report-ORACLE/. With REUSE=1 a run whose file ends with its summary is kept.
 # WOGAN=path uses another binary (default target/release/wogan, built here).
@@ -29,7 +30,11 @@ for algorithm in $algorithms; do
     if [ "${REUSE:-0}" = 1 ] && [ -f "$file" ] && tail -n 1 "$file" | grep -q '"type":"summary"'; then
       continue
     fi
-    "$WOGAN" run --quiet --oracle "$oracle" --algorithm "$algorithm" --seed "$seed" \
+    case "$algorithm" in
+      preset-*) search=(--algorithm wogan --preset "${algorithm#preset-}") ;;
+      *) search=(--algorithm "$algorithm") ;;
+    esac
+    "$WOGAN" run --quiet --oracle "$oracle" "${search[@]}" --seed "$seed" \
       --generation-budget "$generation" --execution-budget "$execution" --out "$file"
     "$WOGAN" export --force --format sbst "$file" "$out/export/$oracle.$algorithm.$seed" \
       2> >(grep -v '^wogan export: wrote' >&2)

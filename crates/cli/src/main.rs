@@ -22,6 +22,7 @@ mod report;
 mod road_sut;
 mod run_file;
 mod saved_roads;
+mod search_preset;
 mod sbst;
 mod suite_file;
 mod value_parsers;

@@ -11,6 +11,7 @@ use crate::executor::ExecutorSettings;
 use crate::generator_file::{self, GeneratorPayload};
 use crate::output_file::same_file;
 use crate::records::{Header, VERSION};
+use crate::search_preset::SearchPreset;
 use crate::value_parsers::{budget_duration, fitness_kind, fraction, share};
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -60,9 +61,15 @@ pub struct RunArgs {
     /// What the search maximises: bolp, bolp-scaled or distance [default: bolp, the paper's].
     #[arg(long, value_parser = fitness_kind)]
     pub fitness: Option<FitnessKind>,
-    /// Curvature values per road (the road has one point more).
-    #[arg(long, default_value_t = DEFAULT_CURVATURE_POINTS, value_parser = clap::value_parser!(u32).range(2..=499), allow_negative_numbers = true)]
-    pub curvature_points: u32,
+    /// Curvature values per road (the road has one point more) [default: 5, the paper's, or the
+    /// preset's].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=499), allow_negative_numbers = true)]
+    pub curvature_points: Option<u32>,
+    /// A named set of search settings laid over the paper's WOGAN (the config file and the other
+    /// options still win): `sbst`, many distinct failures under the SBST competition's rules
+    /// (docs/reference.md).
+    #[arg(long, value_enum)]
+    pub preset: Option<SearchPreset>,
     /// Distance between road points, metres.
     #[arg(long, default_value_t = DEFAULT_STEP_LENGTH_M, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
     pub step_length: f64,
@@ -100,7 +107,7 @@ pub struct RunArgs {
     /// Choose every test with the generator and analyzer saved in FILE (`--save-generator`), as
     /// the trained WOGAN chooses: no random phase, no training. Its roads' settings and WOGAN's
     /// settings are the file's.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance", "preset"])]
     pub generator: Option<PathBuf>,
     /// Drive each road with an external program instead of wogan's simulator: `cmd:COMMAND`
     /// (run with `sh -c`; one per worker), speaking the executor protocol (docs/reference.md).
@@ -201,6 +208,9 @@ pub struct RunSettings {
     pub execution_budget_s: Option<f64>,
     /// Tests simulated at once where they are independent.
     pub jobs: u32,
+    /// The named set of search settings the run started from, when one was given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preset: Option<SearchPreset>,
     /// Curvature values per road.
     pub curvature_points: u32,
     /// How curvature values become road points.
@@ -275,6 +285,9 @@ impl RunPlan {
         }
         let mut search_defaults = RunConfig::default();
         search_defaults.wogan.target_decay = default_target_decay(fitness, &sim);
+        if let Some(preset) = args.preset {
+            preset.apply(&mut search_defaults, fitness, &sim);
+        }
         let mut search = RunConfig {
             algorithm: match args.algorithm {
                 AlgorithmArg::Wogan => Algorithm::Wogan,
@@ -293,6 +306,7 @@ impl RunPlan {
                 ("--mutation-share", args.mutation_share.is_some()),
                 ("--target-decay", args.target_decay.is_some()),
                 ("--round-acceptance", args.round_acceptance.is_some()),
+                ("--preset", args.preset.is_some()),
                 ("--save-generator", args.save_generator.is_some()),
                 ("--generator", args.generator.is_some()),
             ];
@@ -324,7 +338,7 @@ impl RunPlan {
         let (curvature_points, road) = match &generator {
             Some(saved) => {
                 let typed = (
-                    args.curvature_points,
+                    args.curvature_points.unwrap_or(DEFAULT_CURVATURE_POINTS),
                     args.step_length,
                     args.driver.map_size,
                 );
@@ -352,7 +366,9 @@ impl RunPlan {
                 (saved.curvature_points as u32, saved.road)
             }
             None => (
-                args.curvature_points,
+                args.curvature_points
+                    .or(args.preset.map(SearchPreset::curvature_points))
+                    .unwrap_or(DEFAULT_CURVATURE_POINTS),
                 CurvatureRoad {
                     map_size_m: args.driver.map_size,
                     step_m: args.step_length,
@@ -375,6 +391,7 @@ impl RunPlan {
                 generation_budget_s: sbst.map(|b| b.generation.as_secs_f64()),
                 execution_budget_s: sbst.map(|b| b.execution_s),
                 jobs: args.jobs,
+                preset: args.preset,
                 curvature_points,
                 road,
                 sim,

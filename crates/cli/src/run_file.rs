@@ -26,6 +26,9 @@ pub struct RunKey {
     /// How WOGAN chose its tests (`decay 0.9816`, `decay 0.95, mutants 0.25`); empty for random
     /// search and for headers without these settings.
     pub acceptance: String,
+    /// The roads' shape when it is not the paper's five curvature values 15 m apart
+    /// (`8 x 15 m roads`); empty for the paper's and for runs that do not say.
+    pub roads: String,
 }
 
 impl RunKey {
@@ -37,8 +40,13 @@ impl RunKey {
         } else {
             format!(" / {}", self.acceptance)
         };
+        let roads = if self.roads.is_empty() {
+            String::new()
+        } else {
+            format!(" / {}", self.roads)
+        };
         format!(
-            "{} / {} / fitness {}{acceptance} / oob {} / {} km/h",
+            "{} / {} / fitness {}{acceptance}{roads} / oob {} / {} km/h",
             self.algorithm, self.driver, self.fitness, self.oob_tolerance, self.speed_limit_kmh
         )
     }
@@ -194,6 +202,17 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
         Some(share) if share > 0.0 => format!("decay {decay}, mutants {share}"),
         _ => format!("decay {decay}"),
     };
+    if let Some(distance) = setting("novelty/distance").filter(|&d| d > 0.0) {
+        // Written from f32: 4 decimals, as the decay.
+        let distance = format!("{distance:.4}");
+        text.push_str(&format!(
+            ", novelty {}",
+            distance.trim_end_matches('0').trim_end_matches('.')
+        ));
+        if let Some(fitness) = setting("novelty/min_fitness").filter(|&f| f > 0.0) {
+            text.push_str(&format!(" from fitness {fitness}"));
+        }
+    }
     // Rounds of several tests change which tests are chosen (one job is the paper's loop).
     let jobs = config.pointer("/search/jobs").and_then(Value::as_u64);
     if let Some(jobs) = jobs.filter(|&j| j > 1) {
@@ -204,6 +223,17 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
         }
     }
     text
+}
+
+/// The roads' shape unless it is the paper's (five curvature values, 15 m apart) or unknown.
+fn roads(config: &Value) -> String {
+    let points = config.pointer("/curvature_points").and_then(Value::as_u64);
+    let step_m = config.pointer("/road/step_m").and_then(Value::as_f64);
+    match (points, step_m) {
+        (Some(5), Some(step_m)) if step_m == 15.0 => String::new(),
+        (Some(points), Some(step_m)) => format!("{points} x {step_m} m roads"),
+        _ => String::new(),
+    }
 }
 
 /// A setting as a [`RunKey`] holds it: a number as the number it is (so that a limit written `70`
@@ -234,6 +264,7 @@ fn read_header(header: &Header) -> RunHeader {
             oob_tolerance: text(oob),
             speed_limit_kmh: text(speed),
             acceptance: acceptance(&algorithm, &header.config),
+            roads: roads(&header.config),
             algorithm,
         },
         seed: header.seed,
@@ -335,6 +366,30 @@ mod tests {
         assert_eq!(key_of(two), "decay 0.95, rounds of 2 continued");
         let four = r#"{"jobs":4,"wogan":{"target_decay":0.95,"round_acceptance":"restart"}}"#;
         assert_eq!(key_of(four), "decay 0.95, rounds of 4");
+    }
+
+    #[test]
+    fn novelty_and_road_shape_group_runs_apart() {
+        let key_of = |config: &str| {
+            let header: Header = serde_json::from_str(&format!(
+                r#"{{"version":"0.1.0","algorithm":"wogan","oracle":"beamng-ai-proxy","fitness":"bolp","config":{config}}}"#
+            ))
+            .unwrap();
+            read_header(&header).key
+        };
+        let paper = key_of(
+            r#"{"curvature_points":5,"road":{"step_m":15.0},"search":{"wogan":{"target_decay":0.95,"novelty":{"distance":0.0}}}}"#,
+        );
+        assert_eq!((paper.acceptance.as_str(), paper.roads.as_str()), ("decay 0.95", ""));
+        let preset = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0},"search":{"wogan":{"target_decay":0.95,"novelty":{"distance":0.2,"min_fitness":0.85}}}}"#,
+        );
+        assert_eq!(preset.acceptance, "decay 0.95, novelty 0.2 from fitness 0.85");
+        assert_eq!(preset.roads, "8 x 15 m roads");
+        assert!(preset
+            .label()
+            .ends_with("novelty 0.2 from fitness 0.85 / 8 x 15 m roads / oob ? / ? km/h"));
+        assert_ne!(paper, preset);
     }
 
     #[test]

@@ -112,6 +112,8 @@ pub struct WoganConfig {
     pub wgan: WganConfig,
     /// Mutants of the best tests among the candidates (an extension; off in the paper).
     pub mutation: MutationConfig,
+    /// Candidates near tests executed before are skipped (an extension; off in the paper).
+    pub novelty: NoveltyConfig,
     /// How the acceptance target carries over between the tests of one round when several are
     /// chosen at once (`jobs` > 1); with one test per round both rules are the paper's.
     pub round_acceptance: RoundAcceptance,
@@ -154,6 +156,7 @@ impl Default for WoganConfig {
             analyzer: AnalyzerConfig::default(),
             wgan: WganConfig::default(),
             mutation: MutationConfig::default(),
+            novelty: NoveltyConfig::default(),
             round_acceptance: RoundAcceptance::default(),
         }
     }
@@ -305,6 +308,28 @@ impl Default for MutationConfig {
     }
 }
 
+/// Which candidates are too near the tests executed before to be ranked.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct NoveltyConfig {
+    /// A candidate is ranked only at least this far (root mean square of the value differences,
+    /// normalised units) from every executed test of fitness `min_fitness` or more (0: off, the
+    /// paper's WOGAN).
+    pub distance: f32,
+    /// Only tests of at least this fitness keep candidates away (0: every test; a failure's
+    /// fitness: only failures).
+    pub min_fitness: f64,
+}
+
+impl Default for NoveltyConfig {
+    fn default() -> Self {
+        Self {
+            distance: 0.0,
+            min_fitness: 0.0,
+        }
+    }
+}
+
 /// Upper bounds of the settings whose size sets a run's time and memory, chosen so that one
 /// training round stays bounded (`cargo bench -p wogan-core --bench corners` measures the most
 /// expensive round accepted): networks at most 4x the paper's width, batches at most the
@@ -420,6 +445,13 @@ impl RunConfig {
         check_count(g.critic_steps, "wogan.wgan.critic_steps", 1, MAX_EPOCHS)?;
         // Batch normalisation needs two rows.
         check_count(g.noise_batch, "wogan.wgan.noise_batch", 2, MAX_BATCH)?;
+        check_real(
+            f64::from(w.novelty.distance),
+            "wogan.novelty.distance",
+            0.0,
+            2.0,
+        )?;
+        check_real(w.novelty.min_fitness, "wogan.novelty.min_fitness", 0.0, 1.0)?;
         let m = &w.mutation;
         check_real(m.share, "wogan.mutation.share", 0.0, 1.0)?;
         check_count(m.parents, "wogan.mutation.parents", 1, MAX_BATCH)?;

@@ -108,7 +108,7 @@ mod stgem_parity;
 
 pub use budget::{Budget, SbstBudget, SbstUsage};
 pub use config::{
-    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig,
+    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig, NoveltyConfig,
     RoundAcceptance, RunConfig, SamplerConfig, WganConfig, WoganConfig,
 };
 pub use error::Error;

@@ -40,6 +40,10 @@ pub struct RunMeasures {
     /// [`DELTA_RAD`] apart ([`road_sim::distinct`]); `None` when a failing test's record does not
     /// say where the car left its lane (runs written before wogan recorded it).
     pub distinct_failures: Option<usize>,
+    /// Failing tests per hour of simulated driving; `None` without simulated time.
+    pub failures_per_simulated_hour: Option<f64>,
+    /// Median length of the failing roads' centre lines, metres; `None` without a failure.
+    pub failing_road_length_m: Option<f64>,
     /// Position (1-based) of the first failing test; `None` when no test failed.
     pub first_failure: Option<usize>,
     /// Share of the tests after the first failing one that failed too (how well a search exploits
@@ -78,13 +82,17 @@ impl RunMeasures {
             .filter(|&n| n > 0)
             .map(|n| n as f64)
             .collect();
-        let profiles: Vec<Vec<f64>> = run
+        let failing_roads: Vec<Road> = run
             .tests
             .iter()
             .filter(|t| t.failed())
             .filter_map(|t| Road::new(&t.execution.road_points).ok())
+            .collect();
+        let profiles: Vec<Vec<f64>> = failing_roads
+            .iter()
             .map(|road| heading_profile(&road.interpolated))
             .collect();
+        let lengths_m: Vec<f64> = failing_roads.iter().map(Road::length_m).collect();
         let seed = run.header.as_ref().and_then(|h| h.seed).unwrap_or(0);
         let failures = run.failures();
         let first_index = run.tests.iter().position(|t| t.failed());
@@ -94,18 +102,22 @@ impl RunMeasures {
             .filter(|t| t.phase != Phase::Random)
             .collect();
         let tests_after_first = first_index.map_or(0, |i| run.tests.len() - i - 1);
+        let simulated_s: f64 = run
+            .tests
+            .iter()
+            .filter_map(|t| known(t.execution.result.sim_time_s))
+            .sum();
         Self {
             executed: run.tests.len(),
             failures,
             generation_ms_per_test: mean(&generation),
-            simulated_s: run
-                .tests
-                .iter()
-                .filter_map(|t| known(t.execution.result.sim_time_s))
-                .sum(),
+            simulated_s,
             training_s: run.train_ms / 1000.0,
             diversity: median_pairwise_distance(&profiles, seed).median_distance,
             distinct_failures: distinct_failures(&run.tests),
+            failures_per_simulated_hour: (simulated_s > 0.0)
+                .then(|| failures as f64 * 3600.0 / simulated_s),
+            failing_road_length_m: median(&lengths_m),
             first_failure: first_index.map(|i| i + 1),
             // Every failure but the first comes after it.
             failure_rate_after_first: (tests_after_first > 0)
@@ -402,6 +414,23 @@ mod tests {
         let mut run = run_of(&[Outcome::Pass]);
         run.tests.extend(mirrored);
         assert_eq!(RunMeasures::of(&run).distinct_failures, Some(2));
+    }
+
+    #[test]
+    fn failures_are_counted_per_simulated_hour_and_failing_roads_measured() {
+        let mut run = run_of(&[Outcome::Pass]);
+        run.tests.push(failure(2, false, Some((97.0, 36.0))));
+        for (test, sim_time_s) in run.tests.iter_mut().zip([1000.0, 800.0]) {
+            test.execution.result.sim_time_s = sim_time_s;
+        }
+        let measures = RunMeasures::of(&run);
+        assert_eq!(measures.failures_per_simulated_hour, Some(2.0));
+        // The failing road's five points lie 15 + 15.2 + 14.9 + 14.9 m apart; its spline is
+        // a little shorter than the polygon through them.
+        let length_m = measures.failing_road_length_m.unwrap();
+        assert!((55.0..61.0).contains(&length_m), "{length_m}");
+        let passing = RunMeasures::of(&run_of(&[Outcome::Pass]));
+        assert_eq!(passing.failing_road_length_m, None);
     }
 
     #[test]

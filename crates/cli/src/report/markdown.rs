@@ -81,6 +81,17 @@ pub fn report(sections: &[GroupSection], compare: bool, problems: &[String]) -> 
     text
 }
 
+/// What a run's failures cost and what they are like: rows of each group's table and of the
+/// comparison, beside the failures and their diversity.
+const YIELD: [(&str, Measure); 2] = [
+    ("failures per simulated hour", |m| {
+        m.failures_per_simulated_hour
+    }),
+    ("failing road length (m; median of a run's failing roads)", |m| {
+        m.failing_road_length_m
+    }),
+];
+
 /// How a search met and exploited failures (and how near it came when it met none), per run: a
 /// row of each group's table, and one of the comparison.
 const EXPLOITATION: [(&str, Measure); 4] = [
@@ -174,7 +185,7 @@ fn group(number_1: usize, section: &GroupSection) -> String {
         &f.diversity,
     ));
     text.push_str(&spread_row(DISTINCT_FAILURES, &f.distinct_failures));
-    for (name, measure) in EXPLOITATION {
+    for (name, measure) in YIELD.into_iter().chain(EXPLOITATION) {
         text.push_str(&spread_row(name, &Spread::of(&f.values(measure))));
     }
     text.push_str(&competition(f));
@@ -296,6 +307,7 @@ pub fn comparison_table(
     ];
     let measures = outcomes
         .into_iter()
+        .chain(YIELD)
         .chain(EXPLOITATION)
         .chain(competition.iter().copied());
     for (name, measure) in measures {

@@ -138,6 +138,7 @@ fn folder_header(dir: &Path, problems: &mut Vec<String>) -> (RunHeader, f64) {
             oob_tolerance: key_text(oob),
             speed_limit_kmh: key_text(speed),
             acceptance: String::new(),
+            roads: String::new(),
         },
         seed: summary.get("seed").and_then(Value::as_u64),
         oob_tolerance: oob.and_then(Value::as_f64),

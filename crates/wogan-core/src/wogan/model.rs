@@ -11,6 +11,7 @@ use rand::{Rng, RngExt};
 use super::acceptance::Acceptance;
 use super::bins::{biased_batch, bin_of, RngDraws};
 use super::mutation::{mutate, parent_indices};
+use super::novelty::is_novel;
 use super::training_round::{AnalyzerSteps, TrainingData};
 use crate::config::WoganConfig;
 use crate::error::Error;
@@ -60,6 +61,8 @@ pub struct WoganModel {
     wgan: Wgan,
     tests: Vec<f32>,
     targets: Vec<f32>,
+    /// The tests that keep candidates away (`novelty`), flattened.
+    novelty_anchors: Vec<f32>,
     bins: Vec<Vec<usize>>,
     bin_of_test: Vec<usize>,
     rounds: usize,
@@ -85,6 +88,7 @@ impl WoganModel {
             wgan,
             tests: Vec::new(),
             targets: Vec::new(),
+            novelty_anchors: Vec::new(),
             bins: vec![Vec::new(); cfg.bins],
             bin_of_test: Vec::new(),
             rounds: 0,
@@ -128,6 +132,10 @@ impl WoganModel {
         let idx = self.targets.len();
         self.tests.extend_from_slice(test);
         self.targets.push(logit_target(fitness));
+        let novelty = &self.cfg.novelty;
+        if novelty.distance > 0.0 && fitness >= novelty.min_fitness {
+            self.novelty_anchors.extend_from_slice(test);
+        }
         let b = bin_of(fitness, self.cfg.bins);
         self.bins[b].push(idx);
         self.bin_of_test.push(b);
@@ -308,8 +316,11 @@ impl WoganModel {
             };
             let pred = values(analyzer.predict(scored))?;
             for ((c, p), mutant) in cands.chunks_exact(self.dim).zip(pred).zip(is_mutant) {
-                if !sut.is_valid(c) {
-                    invalid += 1;
+                let is_invalid = !sut.is_valid(c);
+                // A candidate too near a test executed before is skipped like an invalid one
+                // but not counted as invalid (`novelty`).
+                if is_invalid || !is_novel(c, &self.novelty_anchors, self.cfg.novelty.distance) {
+                    invalid += usize::from(is_invalid);
                     streak += 1;
                     if streak >= self.cfg.max_invalid_streak {
                         let test = sampler.sample_valid(sut, rng, &mut invalid)?;
