@@ -111,22 +111,60 @@ pub(crate) fn zeroed(len: usize) -> Vec<f32> {
 
 /// The transpose of row-major `[rows, cols]` `data`.
 fn transpose(data: &[f32], rows: usize, cols: usize) -> Matrix {
-    // In blocks of 16 × 16: the 16 rows a block reads stay in cache while it is written.
-    const BLOCK: usize = 16;
+    // In blocks of 8 × 8 read row by row into registers and written column by column, so that
+    // both sides move whole cache-line pieces; the ragged edges element by element.
+    const B: usize = 8;
     let mut t = zeroed(rows * cols);
-    for i0 in (0..rows).step_by(BLOCK) {
-        let i1 = (i0 + BLOCK).min(rows);
-        for j0 in (0..cols).step_by(BLOCK) {
-            for j in j0..(j0 + BLOCK).min(cols) {
-                let out = &mut t[j * rows + i0..j * rows + i1];
-                for (o, v) in out
-                    .iter_mut()
-                    .zip(data[i0 * cols + j..].iter().step_by(cols))
-                {
-                    *o = *v;
+    let (full_rows, full_cols) = (rows - rows % B, cols - cols % B);
+    for i0 in (0..full_rows).step_by(B) {
+        for j0 in (0..full_cols).step_by(B) {
+            let mut block = [[0.0f32; B]; B];
+            for (r, block_row) in block.iter_mut().enumerate() {
+                let start = (i0 + r) * cols + j0;
+                block_row.copy_from_slice(&data[start..start + B]);
+            }
+            for c in 0..B {
+                let start = (j0 + c) * rows + i0;
+                let out: &mut [f32; B] = (&mut t[start..start + B]).try_into().expect("B");
+                for (o, block_row) in out.iter_mut().zip(&block) {
+                    *o = block_row[c];
                 }
             }
         }
     }
+    for i in 0..rows {
+        let from = if i < full_rows { full_cols } else { 0 };
+        for j in from..cols {
+            t[j * rows + i] = data[i * cols + j];
+        }
+    }
     Matrix::new(t, cols, rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transposes_at_every_edge_of_the_blocks() {
+        for (rows, cols) in [(13, 21), (16, 8), (1, 9), (9, 1), (0, 3), (128, 128)] {
+            let m = Matrix::new((0..rows * cols).map(|v| v as f32).collect(), rows, cols);
+            let t = m.transpose();
+            assert_eq!((t.rows, t.cols), (cols, rows));
+            for i in 0..rows {
+                for j in 0..cols {
+                    assert_eq!(t.data[j * rows + i], m.data[i * cols + j]);
+                }
+            }
+            assert_eq!(t.transpose(), m);
+        }
+    }
+
+    #[test]
+    fn a_reused_buffer_comes_back_zeroed() {
+        let mut m = Matrix::zeros(4, 4);
+        m.data.iter_mut().for_each(|v| *v = 7.0);
+        drop(m);
+        assert!(Matrix::zeros(2, 3).data.iter().all(|v| *v == 0.0));
+    }
 }
