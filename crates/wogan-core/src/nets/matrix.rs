@@ -80,7 +80,7 @@ const POOL_SIZE: usize = 64;
 thread_local! {
     /// Buffers of dropped matrices. A training step allocates and frees the same few dozen
     /// matrices every time; through the allocator that costs page faults (it returns the freed
-    /// top of the heap to the system, a third of a critic step's time).
+    /// top of the heap to the system, and the next step touches it again).
     static POOL: std::cell::RefCell<Vec<Vec<f32>>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
