@@ -76,38 +76,26 @@ impl Critic {
         let mean = out.data.iter().sum::<f32>() / n as f32;
         let d_out = Matrix::new(vec![scale / n as f32; n], n, 1);
         let w2t = self.l2.weight.transpose();
-        let (_, dx) = self.backward(x, &h1, &h2, &d_out, &w2t, false);
-        (mean, dx.expect("asked for"))
+        let (_, d1) = self.hidden_deltas(&h1, &h2, &d_out, &w2t);
+        (mean, self.l1.input_grad(&d1))
     }
 
-    /// Backpropagates `d_out: [n, 1]` through the forward pass `x → h1 → h2`: the layers'
-    /// gradients when `params`, the input's otherwise.
-    fn backward(
+    /// Backpropagates `d_out: [n, 1]` through the forward pass `h1 → h2 → out`: the gradients
+    /// at the pre-activations of the second hidden layer and of the first.
+    fn hidden_deltas(
         &self,
-        x: &Matrix,
         h1: &Matrix,
         h2: &Matrix,
         d_out: &Matrix,
         w2t: &Matrix,
-        params: bool,
-    ) -> (Option<CriticGrad>, Option<Matrix>) {
-        let g3 = params.then(|| self.l3.grad(h2, d_out));
+    ) -> (Matrix, Matrix) {
         // `W3ᵀ` is `W3`'s data as one row.
         let w3_row = Matrix::new(self.l3.weight.data.clone(), 1, self.l3.d_in());
-        let mut d = matmul(d_out, &w3_row, Epilogue::Plain);
-        leaky_grad(&mut d, h2, self.slope);
-        let g2 = params.then(|| self.l2.grad(h1, &d));
-        let mut d = matmul(&d, w2t, Epilogue::Plain);
-        leaky_grad(&mut d, h1, self.slope);
-        let g1 = params.then(|| self.l1.grad(x, &d));
-        let dx = (!params).then(|| self.l1.input_grad(&d));
-        let grads = match (g1, g2, g3) {
-            (Some(g1), Some(g2), Some(g3)) => Some(CriticGrad {
-                layers: [g1, g2, g3],
-            }),
-            _ => None,
-        };
-        (grads, dx)
+        let mut d2 = matmul(d_out, &w3_row, Epilogue::Plain);
+        leaky_grad(&mut d2, h2, self.slope);
+        let mut d1 = matmul(&d2, w2t, Epilogue::Plain);
+        leaky_grad(&mut d1, h1, self.slope);
+        (d2, d1)
     }
 
     /// WGAN-GP critic loss on `m` real and `m` fake rows, with the interpolates
@@ -144,8 +132,14 @@ impl Critic {
         d_out.data[..m].iter_mut().for_each(|v| *v = -*v);
         // `W2ᵀ`, which both the backward pass and the penalty's input gradient multiply by.
         let w2t = self.l2.weight.transpose();
-        let (grads, _) = self.backward(&x, &h1, &h2, &d_out, &w2t, true);
-        let mut grads = grads.expect("asked for");
+        let (d2, d1) = self.hidden_deltas(&h1, &h2, &d_out, &w2t);
+        let mut grads = CriticGrad {
+            layers: [
+                self.l1.grad(&x, &d1),
+                self.l2.grad(&h1, &d2),
+                self.l3.grad(&h2, &d_out),
+            ],
+        };
 
         // Interpolates: the penalty on the input gradient g = ((W3ᵀ ⊙ s2) W2ᵀ ⊙ s1) W1ᵀ.
         let (i1, i2) = self.hidden(&interp);
