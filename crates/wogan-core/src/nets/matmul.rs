@@ -199,6 +199,7 @@ fn narrow_on(
 
 /// The vector instructions a kernel is compiled for, in increasing order.
 #[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 enum Simd {
     /// Neither of the others: the portable kernel, without fused multiply-adds.
     None,
