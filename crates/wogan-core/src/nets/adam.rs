@@ -64,22 +64,61 @@ impl Adam {
             weight_decay,
         } = self.cfg;
         let c2 = (1.0 - beta2.powi(self.time)).sqrt();
-        let c = c2 / (1.0 - beta1.powi(self.time));
-        let eps = epsilon * c2;
-        let (f1, f2) = (1.0 - beta1, 1.0 - beta2);
+        let k = Coefficients {
+            lr,
+            beta1,
+            beta2,
+            f1: 1.0 - beta1,
+            f2: 1.0 - beta2,
+            c: c2 / (1.0 - beta1.powi(self.time)),
+            eps: epsilon * c2,
+            decay: weight_decay,
+        };
         for ((theta, g), (m, v)) in params.into_iter().zip(grads).zip(&mut self.moments) {
             assert_eq!(theta.len(), g.len(), "gradient shape");
-            for (((t, g), m), v) in theta.iter_mut().zip(*g).zip(m).zip(v) {
-                let g = match weight_decay {
-                    Some(decay) => *t * decay + g,
-                    None => *g,
-                };
-                *m = *m * beta1 + g * f1;
-                *v = *v * beta2 + (g * g) * f2;
-                *t -= (*m * c) / (v.sqrt() + eps) * lr;
+            assert!(m.len() == g.len() && v.len() == g.len(), "moment shape");
+            #[cfg(target_arch = "x86_64")]
+            if std::is_x86_feature_detected!("avx2") {
+                // SAFETY: `update_avx2` is compiled for AVX2, which this CPU has; it is otherwise
+                // `update`, and without fused multiply-adds it rounds exactly as `update` does.
+                unsafe { update_avx2(theta, g, m, v, &k) };
+                continue;
             }
+            update(theta, g, m, v, &k);
         }
     }
+}
+
+/// One step's scalars.
+struct Coefficients {
+    lr: f32,
+    beta1: f32,
+    beta2: f32,
+    f1: f32,
+    f2: f32,
+    c: f32,
+    eps: f32,
+    decay: Option<f32>,
+}
+
+/// The update of one tensor, element by element.
+#[inline(always)]
+fn update(theta: &mut [f32], g: &[f32], m: &mut [f32], v: &mut [f32], k: &Coefficients) {
+    for (((t, g), m), v) in theta.iter_mut().zip(g).zip(m).zip(v) {
+        let g = match k.decay {
+            Some(decay) => *t * decay + g,
+            None => *g,
+        };
+        *m = *m * k.beta1 + g * k.f1;
+        *v = *v * k.beta2 + (g * g) * k.f2;
+        *t -= (*m * k.c) / (v.sqrt() + k.eps) * k.lr;
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn update_avx2(theta: &mut [f32], g: &[f32], m: &mut [f32], v: &mut [f32], k: &Coefficients) {
+    update(theta, g, m, v, k);
 }
 
 #[cfg(test)]
