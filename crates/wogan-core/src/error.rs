@@ -34,7 +34,4 @@ pub enum Error {
     /// numbers), or there is nothing trained to snapshot yet.
     #[error("model snapshot: {0}")]
     Snapshot(String),
-    /// A tensor could not be read back (should not happen on the CPU backend).
-    #[error("tensor read-back failed: {0}")]
-    Tensor(String),
 }

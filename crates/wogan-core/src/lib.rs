@@ -9,9 +9,10 @@
 //! predicts fitness and a Wasserstein GAN with gradient penalty on a batch biased towards high
 //! fitness; the generator proposes candidates, the analyzer picks the most promising valid one.
 //!
-//! The networks run on burn's Flex CPU backend with autodiff. Every random choice, including
-//! weight initialisation and GAN noise, flows from one ChaCha RNG seeded by the run seed, so a run
-//! with `max_tests` and `jobs = 1` is reproducible from its seed.
+//! The networks run on plain `f32` matrices, their forward and backward passes written out
+//! (`nets/`): they are so small that a tensor library's per-operation cost would dominate.
+//! Every random choice, including weight initialisation and GAN noise, flows from one ChaCha RNG
+//! seeded by the run seed, so a run with `max_tests` and `jobs = 1` is reproducible from its seed.
 //!
 //! ```
 //! use std::sync::atomic::AtomicBool;
@@ -89,9 +90,10 @@
 //!
 //! # The critic
 //!
-//! burn has no double backward, so the critic's input gradient is an explicit tensor expression
-//! of its weights with detached leaky-ReLU slope masks; one ordinary backward then gives exact
-//! parameter gradients of the WGAN-GP loss (checked against f64 finite differences in a test).
+//! The gradient penalty needs the critic's gradient with respect to its input; it is written
+//! out as an expression of the critic's weights and its leaky-ReLU slopes (constant between
+//! kinks), and differentiating that by hand gives the exact parameter gradients of the WGAN-GP
+//! loss (checked against f64 finite differences in a test).
 
 mod budget;
 mod config;

@@ -9,15 +9,12 @@
 use std::collections::VecDeque;
 use std::path::PathBuf;
 
-use burn::module::{Param, RunningState};
-use burn::nn::Linear;
-use burn::prelude::*;
 use serde_json::Value;
 
 use crate::budget::Budget;
 use crate::config::{AnalyzerConfig, RunConfig, WganConfig};
 use crate::nets::{
-    logit_target, matrix, values, Analyzer, AnalyzerTrainer, BatchNorm, Critic, Generator, Wgan,
+    logit_target, Analyzer, AnalyzerTrainer, BatchNorm, Critic, Dense, Generator, Matrix, Wgan,
 };
 use crate::test_sampler::Sampler;
 use crate::wogan::{biased_batch, bin_of, bin_weights, Acceptance, BatchDraws};
@@ -42,64 +39,55 @@ fn rows_of(v: &Value) -> usize {
     v.as_array().expect("an array").len()
 }
 
-fn tensor(v: &Value, device: &Device) -> Tensor<2> {
+fn tensor(v: &Value) -> Matrix {
     let values = flat(v);
     let rows = rows_of(v);
-    matrix(values.clone(), rows, values.len() / rows, device)
+    let cols = values.len() / rows;
+    Matrix::new(values, rows, cols)
 }
 
-fn vector(v: &Value, device: &Device) -> Tensor<1> {
-    Tensor::from_data(TensorData::new(flat(v), [rows_of(v)]), device)
-}
-
-/// A PyTorch `Linear` (weight `[out, in]`) as burn's (`[in, out]`).
-fn linear(state: &Value, name: &str, device: &Device) -> Linear {
-    let w = &state[format!("{name}.weight")];
-    let (outputs, inputs) = (rows_of(w), flat(w).len() / rows_of(w));
-    let weight = Tensor::<2>::from_data(TensorData::new(flat(w), [outputs, inputs]), device);
-    Linear {
-        weight: Param::from_tensor(weight.transpose()),
-        bias: Some(Param::from_tensor(vector(
-            &state[format!("{name}.bias")],
-            device,
-        ))),
+/// A PyTorch `Linear` (weight `[out, in]`) as ours (`[in, out]`).
+fn linear(state: &Value, name: &str) -> Dense {
+    Dense {
+        weight: tensor(&state[format!("{name}.weight")]).transpose(),
+        bias: flat(&state[format!("{name}.bias")]),
     }
 }
 
-fn batch_norm(state: &Value, name: &str, device: &Device) -> BatchNorm {
-    let get = |field: &str| vector(&state[format!("{name}.{field}")], device);
+fn batch_norm(state: &Value, name: &str) -> BatchNorm {
+    let get = |field: &str| flat(&state[format!("{name}.{field}")]);
     BatchNorm {
-        gamma: Param::from_tensor(get("weight")),
-        beta: Param::from_tensor(get("bias")),
-        running_mean: RunningState::new(get("running_mean")),
-        running_var: RunningState::new(get("running_var")),
+        gamma: get("weight"),
+        beta: get("bias"),
+        running_mean: get("running_mean"),
+        running_var: get("running_var"),
     }
 }
 
-fn generator(state: &Value, device: &Device) -> Generator {
+fn generator(state: &Value) -> Generator {
     Generator {
-        input: linear(state, "top", device),
-        hidden: linear(state, "hidden.0", device),
-        hidden_norm: batch_norm(state, "norm.0", device),
-        output: linear(state, "bottom", device),
-        output_norm: batch_norm(state, "norm.2", device),
+        input: linear(state, "top"),
+        hidden: linear(state, "hidden.0"),
+        hidden_norm: batch_norm(state, "norm.0"),
+        output: linear(state, "bottom"),
+        output_norm: batch_norm(state, "norm.2"),
     }
 }
 
-fn critic(state: &Value, device: &Device) -> Critic {
+fn critic(state: &Value) -> Critic {
     Critic {
-        l1: linear(state, "top", device),
-        l2: linear(state, "hidden.0", device),
-        l3: linear(state, "bottom", device),
-        slope: crate::config::CriticConfig::default().leaky_slope,
+        l1: linear(state, "top"),
+        l2: linear(state, "hidden.0"),
+        l3: linear(state, "bottom"),
+        slope: crate::config::CriticConfig::default().leaky_slope as f32,
     }
 }
 
-fn analyzer(state: &Value, device: &Device) -> Analyzer {
+fn analyzer(state: &Value) -> Analyzer {
     Analyzer {
-        l1: linear(state, "top", device),
-        l2: linear(state, "hidden.0", device),
-        l3: linear(state, "bottom", device),
+        l1: linear(state, "top"),
+        l2: linear(state, "hidden.0"),
+        l3: linear(state, "bottom"),
     }
 }
 
@@ -131,28 +119,22 @@ fn assert_scalar(actual: f64, expected: &Value, what: &str) {
 }
 
 fn running(bn: &BatchNorm) -> (Vec<f32>, Vec<f32>) {
-    (
-        values(bn.running_mean.value_sync()).unwrap(),
-        values(bn.running_var.value_sync()).unwrap(),
-    )
+    (bn.running_mean.clone(), bn.running_var.clone())
 }
 
-fn linear_values(l: &Linear) -> (Vec<f32>, Vec<f32>) {
-    let w = values(l.weight.val().transpose()).unwrap();
-    let b = values(l.bias.as_ref().unwrap().val()).unwrap();
-    (w, b)
+fn linear_values(l: &Dense) -> (Vec<f32>, Vec<f32>) {
+    (l.weight.transpose().take(), l.bias.clone())
 }
 
 #[test]
 fn generator_matches_stgem_in_training_and_inference_mode() {
     let v = vectors("networks.json");
     let g = &v["generator"];
-    let device = Device::flex().autodiff();
-    let net = generator(&g["state"], &device);
-    let out = values(net.forward(tensor(&g["noise"], &device))).unwrap();
+    let mut net = generator(&g["state"]);
+    let out = net.train(&tensor(&g["noise"])).output().data.clone();
     assert_close(&out, &flat(&g["train_output"]), "training-mode output");
     for batch in g["passes"].as_array().unwrap() {
-        net.forward(tensor(batch, &device));
+        net.train(&tensor(batch));
     }
     let after = &g["state_after_passes"];
     for (bn, name) in [(&net.hidden_norm, "norm.0"), (&net.output_norm, "norm.2")] {
@@ -160,63 +142,54 @@ fn generator_matches_stgem_in_training_and_inference_mode() {
         assert_close(&mean, &flat(&after[format!("{name}.running_mean")]), name);
         assert_close(&var, &flat(&after[format!("{name}.running_var")]), name);
     }
-    let plain = net.valid();
-    let probe = tensor(&g["probe"], &device.without_autodiff());
-    let out = values(plain.forward(probe)).unwrap();
+    let out = net.infer(&tensor(&g["probe"])).take();
     assert_close(&out, &flat(&g["eval_output"]), "inference-mode output");
 }
 
 #[test]
 fn critic_and_analyzer_match_stgem() {
     let v = vectors("networks.json");
-    let device = Device::flex();
     let c = &v["critic"];
-    let out = values(critic(&c["state"], &device).forward(tensor(&c["input"], &device))).unwrap();
+    let out = critic(&c["state"]).forward(&tensor(&c["input"])).take();
     assert_close(&out, &flat(&c["output"]), "critic output");
     let a = &v["analyzer"];
-    let net = analyzer(&a["state"], &device);
-    let out = values(net.predict(tensor(&a["input"], &device))).unwrap();
+    let net = analyzer(&a["state"]);
+    let out = net.predict(&tensor(&a["input"]));
     assert_close(&out, &flat(&a["output"]), "analyzer output");
 }
 
 /// Noise `2u − 1` from stgem's `torch.rand` draw `u`, as stgem computes it.
-fn noise_of(draw: &Value, device: &Device) -> Tensor<2> {
-    tensor(draw, device).mul_scalar(2.0).sub_scalar(1.0)
+fn noise_of(draw: &Value) -> Matrix {
+    let mut m = tensor(draw);
+    m.data.iter_mut().for_each(|u| *u = *u * 2.0 - 1.0);
+    m
 }
 
 #[test]
 fn wgan_steps_match_stgem() {
     let v = vectors("wgan_steps.json");
-    let device = Device::flex().autodiff();
     let cfg = WganConfig::default();
     assert_eq!(v["critic_steps"], cfg.critic_steps);
     assert_eq!(v["noise_batch"], cfg.noise_batch);
     let lr = v["lr"].as_f64().unwrap();
     assert_eq!(lr, cfg.lr);
     let mut wgan = Wgan::from_networks(
-        generator(&v["initial"]["generator"], &device),
-        critic(&v["initial"]["critic"], &device),
+        generator(&v["initial"]["generator"]),
+        critic(&v["initial"]["critic"]),
         &cfg,
-        &device,
     );
-    let real = tensor(&v["real"], &device);
+    let real = tensor(&v["real"]);
     let epochs = v["epochs"].as_array().unwrap();
     for (e, epoch) in epochs.iter().enumerate() {
         let draws = epoch["draws"].as_array().unwrap();
         for k in 0..cfg.critic_steps {
-            let step = wgan
-                .critic_step(
-                    real.clone(),
-                    noise_of(&draws[2 * k], &device),
-                    tensor(&draws[2 * k + 1], &device),
-                )
-                .unwrap();
+            let step = wgan.critic_step(&real, &noise_of(&draws[2 * k]), &flat(&draws[2 * k + 1]));
             let what = format!("epoch {e} critic step {k}");
             assert_scalar(step.loss, &epoch["critic_losses"][k], &what);
             assert_scalar(step.penalty, &epoch["gradient_penalties"][k], &what);
         }
-        let noise = noise_of(&draws[2 * cfg.critic_steps], &device);
-        let loss = wgan.generator_step(noise).unwrap();
+        let noise = noise_of(&draws[2 * cfg.critic_steps]);
+        let loss = wgan.generator_step(&noise);
         // The critic it is measured against carries the bias noise described below.
         assert_close_within(
             &[loss as f32],
@@ -266,8 +239,7 @@ fn wgan_steps_match_stgem() {
         assert_close_within(&b, &flat(&state[format!("{name}.bias")]), bias_bound, name);
     }
     for (bn, name) in [(&g.hidden_norm, "norm.0"), (&g.output_norm, "norm.2")] {
-        let gamma = values(bn.gamma.val()).unwrap();
-        let beta = values(bn.beta.val()).unwrap();
+        let (gamma, beta) = (bn.gamma.clone(), bn.beta.clone());
         assert_close(&gamma, &flat(&state[format!("{name}.weight")]), name);
         assert_close(&beta, &flat(&state[format!("{name}.bias")]), name);
         let (mean, var) = running(bn);
@@ -280,21 +252,18 @@ fn wgan_steps_match_stgem() {
 #[test]
 fn analyzer_steps_match_stgem() {
     let v = vectors("analyzer_steps.json");
-    let device = Device::flex().autodiff();
     let cfg = AnalyzerConfig::default();
     assert_eq!(v["lr"].as_f64().unwrap(), cfg.lr);
     assert_eq!(v["l2"].as_f64().unwrap(), cfg.l2);
-    let mut trainer = AnalyzerTrainer::with_model(analyzer(&v["initial"], &device), &cfg);
-    let x = tensor(&v["x"], &device);
+    let mut trainer = AnalyzerTrainer::with_model(analyzer(&v["initial"]), &cfg);
+    let x = tensor(&v["x"]);
     // stgem's targets are objectives; the analyzer is indifferent to what its target means.
     let y: Vec<f32> = flat(&v["y"])
         .into_iter()
         .map(|o| logit_target(f64::from(o)))
         .collect();
-    let rows = y.len();
-    let y = matrix(y, rows, 1, &device);
     for (k, expected) in v["losses"].as_array().unwrap().iter().enumerate() {
-        let loss = trainer.step(x.clone(), y.clone(), true).unwrap().unwrap();
+        let loss = trainer.step(&x, &y, true).unwrap();
         assert_scalar(loss, expected, &format!("analyzer loss {k}"));
     }
     let after = &v["after"];

@@ -10,26 +10,22 @@
 //! them sampled without replacement once there are more.
 //!
 //! The L2 term is applied as Adam's coupled weight decay with penalty `2·l2`: its gradient
-//! `2·l2·w` is exactly what the term adds to the loss gradient, and it costs a few optimiser
-//! operations instead of a dozen more graph nodes per step.
+//! `2·l2·w` is exactly what the term adds to the loss gradient.
 
-use burn::nn::Linear;
-use burn::optim::decay::WeightDecayConfig;
-use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
-use burn::prelude::*;
-use burn::tensor::activation::{relu, sigmoid};
 use rand::Rng;
 
-use super::layers::{scalar, three_layers};
+use super::adam::{Adam, AdamConfig};
+use super::dense::{relu_grad, Dense, DenseGrad};
+use super::matmul::Activation;
+use super::matrix::Matrix;
 use crate::config::AnalyzerConfig;
-use crate::error::Error;
 
 /// Analyzer network.
-#[derive(Module, Debug)]
-pub struct Analyzer {
-    pub(crate) l1: Linear,
-    pub(crate) l2: Linear,
-    pub(crate) l3: Linear,
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Analyzer {
+    pub l1: Dense,
+    pub l2: Dense,
+    pub l3: Dense,
 }
 
 /// How far a fitness or prediction in `[0, 1]` is squeezed towards 0.5 before its logit.
@@ -41,109 +37,114 @@ pub(crate) fn logit_target(fitness: f64) -> f32 {
     (y / (1.0 - y)).ln() as f32
 }
 
-/// `logit(0.98·p + 0.01)` of predictions `p` in `[0, 1]`.
-fn squeezed_logit(p: Tensor<2>) -> Tensor<2> {
-    let q = p.mul_scalar(SQUEEZE).add_scalar((1.0 - SQUEEZE) / 2.0);
-    q.clone().log() - q.neg().add_scalar(1.0).log()
+fn sigmoid(x: f32) -> f32 {
+    1.0 / (1.0 + (-x).exp())
 }
 
 impl Analyzer {
     /// An analyzer with weights drawn from `rng`.
-    pub fn new<R: Rng + ?Sized>(
-        dim: usize,
-        cfg: &AnalyzerConfig,
-        rng: &mut R,
-        device: &Device,
-    ) -> Self {
-        let [l1, l2, l3] = three_layers(rng, dim, cfg.hidden, device);
-        Self { l1, l2, l3 }
-    }
-
-    /// Pre-sigmoid outputs `[n, 1]`.
-    pub fn logits(&self, x: Tensor<2>) -> Tensor<2> {
-        let h = relu(self.l1.forward(x));
-        let h = relu(self.l2.forward(h));
-        self.l3.forward(h)
-    }
-
-    /// Predicted fitness `[n, 1]` in `(0, 1)`.
-    pub fn predict(&self, x: Tensor<2>) -> Tensor<2> {
-        sigmoid(self.logits(x))
-    }
-
-    fn squared_norm(&self) -> Tensor<1> {
-        let mut total = self.l1.weight.val().powi_scalar(2).sum();
-        for w in [self.l2.weight.val(), self.l3.weight.val()] {
-            total = total + w.powi_scalar(2).sum();
+    pub fn new<R: Rng + ?Sized>(dim: usize, cfg: &AnalyzerConfig, rng: &mut R) -> Self {
+        Self {
+            l1: Dense::new(rng, dim, cfg.hidden),
+            l2: Dense::new(rng, cfg.hidden, cfg.hidden),
+            l3: Dense::new(rng, cfg.hidden, 1),
         }
-        for b in [&self.l1.bias, &self.l2.bias, &self.l3.bias]
-            .into_iter()
-            .flatten()
-        {
-            total = total + b.val().powi_scalar(2).sum();
+    }
+
+    /// Predicted fitness in `(0, 1)` of each row of `x: [n, d]`.
+    pub fn predict(&self, x: &Matrix) -> Vec<f32> {
+        let h = self.l1.forward(x, Activation::Relu);
+        let h = self.l2.forward(&h, Activation::Relu);
+        let out = self.l3.forward(&h, Activation::Identity);
+        out.data.iter().map(|z| sigmoid(*z)).collect()
+    }
+
+    fn squared_norm(&self) -> f32 {
+        let mut total = 0.0f32;
+        for layer in [&self.l1, &self.l2, &self.l3] {
+            total += layer.weight.data.iter().map(|w| w * w).sum::<f32>();
+        }
+        for layer in [&self.l1, &self.l2, &self.l3] {
+            total += layer.bias.iter().map(|b| b * b).sum::<f32>();
         }
         total
     }
 
-    /// Mean squared error of the predictions' squeezed logits against logit targets `[n, 1]`.
-    pub(crate) fn mse(&self, x: Tensor<2>, target: Tensor<2>) -> Tensor<1> {
-        (squeezed_logit(self.predict(x)) - target)
-            .powi_scalar(2)
-            .mean()
+    /// Mean squared error of the predictions' squeezed logits against logit targets `[n]`, and
+    /// its parameter gradients.
+    fn mse(&self, x: &Matrix, target: &[f32]) -> (f32, [DenseGrad; 3]) {
+        let h1 = self.l1.forward(x, Activation::Relu);
+        let h2 = self.l2.forward(&h1, Activation::Relu);
+        let out = self.l3.forward(&h2, Activation::Identity);
+        let n = x.rows as f32;
+        let squeeze = SQUEEZE as f32;
+        let shift = ((1.0 - SQUEEZE) / 2.0) as f32;
+        let mut sum = 0.0f32;
+        let mut d = out.clone();
+        for (g, t) in d.data.iter_mut().zip(target) {
+            let p = sigmoid(*g);
+            let q = p * squeeze + shift;
+            let err = (q.ln() - (1.0 - q).ln()) - t;
+            sum += err * err;
+            // d/dz of err²/n through q = 0.98·σ(z) + 0.01 and logit(q).
+            *g = 2.0 * err / n * (1.0 / q + 1.0 / (1.0 - q)) * squeeze * (p * (1.0 - p));
+        }
+        let g3 = self.l3.grad(&h2, &d);
+        let mut d = self.l3.input_grad(&d);
+        relu_grad(&mut d, &h2);
+        let g2 = self.l2.grad(&h1, &d);
+        let mut d = self.l2.input_grad(&d);
+        relu_grad(&mut d, &h1);
+        let g1 = self.l1.grad(x, &d);
+        (sum / n, [g1, g2, g3])
+    }
+
+    /// Its parameter tensors, layer by layer (weights, bias).
+    fn params_mut(&mut self) -> Vec<&mut [f32]> {
+        let mut p = Vec::with_capacity(6);
+        p.extend(self.l1.params_mut());
+        p.extend(self.l2.params_mut());
+        p.extend(self.l3.params_mut());
+        p
     }
 }
 
 /// An analyzer with its optimiser.
+#[derive(Debug, Clone)]
 pub(crate) struct AnalyzerTrainer {
     pub model: Analyzer,
-    optim: ModuleOptimizer,
-    lr: f64,
+    adam: Adam,
     l2: f64,
 }
 
 impl AnalyzerTrainer {
-    pub fn new<R: Rng + ?Sized>(
-        dim: usize,
-        cfg: &AnalyzerConfig,
-        rng: &mut R,
-        device: &Device,
-    ) -> Self {
-        Self::with_model(Analyzer::new(dim, cfg, rng, device), cfg)
+    pub fn new<R: Rng + ?Sized>(dim: usize, cfg: &AnalyzerConfig, rng: &mut R) -> Self {
+        Self::with_model(Analyzer::new(dim, cfg, rng), cfg)
     }
 
     /// Trains `model` as `cfg` says, with a fresh optimiser.
     pub fn with_model(model: Analyzer, cfg: &AnalyzerConfig) -> Self {
         Self {
             model,
-            optim: AdamConfig::new()
-                .with_beta_1(cfg.beta1)
-                .with_beta_2(cfg.beta2)
-                .with_epsilon(1e-8)
-                .with_weight_decay(Some(WeightDecayConfig::new(2.0 * cfg.l2 as f32)))
-                .init(),
-            lr: cfg.lr,
+            adam: Adam::new(AdamConfig {
+                lr: cfg.lr as f32,
+                beta1: cfg.beta1,
+                beta2: cfg.beta2,
+                epsilon: 1e-8,
+                weight_decay: Some(2.0 * cfg.l2 as f32),
+            }),
             l2: cfg.l2,
         }
     }
 
-    /// One Adam step; with `report`, returns the full loss (MSE plus L2) before the step.
-    pub fn step(
-        &mut self,
-        x: Tensor<2>,
-        target: Tensor<2>,
-        report: bool,
-    ) -> Result<Option<f64>, Error> {
-        let mse = self.model.mse(x, target);
-        let grads = GradientsParams::from_grads(mse.backward(), &self.model);
-        let value = if report {
-            let l2 = scalar(self.model.squared_norm().detach())? * self.l2;
-            Some(scalar(mse.detach())? + l2)
-        } else {
-            None
-        };
-        let model = self.model.clone();
-        self.model = self.optim.step(self.lr, model, grads);
-        Ok(value)
+    /// One Adam step on inputs `x: [n, d]` and logit targets `[n]`; with `report`, returns the
+    /// full loss (MSE plus L2) before the step.
+    pub fn step(&mut self, x: &Matrix, target: &[f32], report: bool) -> Option<f64> {
+        let (mse, grads) = self.model.mse(x, target);
+        let value = report.then(|| f64::from(mse) + f64::from(self.model.squared_norm()) * self.l2);
+        let grads: Vec<&[f32]> = grads.iter().flat_map(DenseGrad::tensors).collect();
+        self.adam.step(self.model.params_mut(), &grads);
+        value
     }
 }
 
@@ -155,7 +156,6 @@ mod tests {
 
     #[test]
     fn learns_a_simple_function() {
-        let device = Device::flex().autodiff();
         let mut rng = ChaCha20Rng::seed_from_u64(7);
         let d = 3;
         let n = 128;
@@ -168,23 +168,17 @@ mod tests {
             xs.extend(x);
             ys.push(logit_target(f));
         }
-        let mut t = AnalyzerTrainer::new(d, &AnalyzerConfig::default(), &mut rng, &device);
-        let x = crate::nets::layers::matrix(xs, n, d, &device);
-        let y = crate::nets::layers::matrix(ys, n, 1, &device);
-        let first = t.step(x.clone(), y.clone(), true).unwrap().unwrap();
+        let mut t = AnalyzerTrainer::new(d, &AnalyzerConfig::default(), &mut rng);
+        let x = Matrix::new(xs, n, d);
+        let first = t.step(&x, &ys, true).unwrap();
         for _ in 0..300 {
-            assert!(t.step(x.clone(), y.clone(), false).unwrap().is_none());
+            assert!(t.step(&x, &ys, false).is_none());
         }
-        let last = t.step(x.clone(), y.clone(), true).unwrap().unwrap();
+        let last = t.step(&x, &ys, true).unwrap();
         eprintln!("analyzer loss {first} -> {last}");
         assert!(last < 0.5 * first, "loss {first} → {last}");
-        let probe = crate::nets::layers::matrix(
-            vec![-0.9, 0.0, 0.0, 0.9, 0.0, 0.0],
-            2,
-            d,
-            &device.clone().without_autodiff(),
-        );
-        let p = crate::nets::layers::values(t.model.valid().predict(probe)).unwrap();
+        let probe = Matrix::new(vec![-0.9, 0.0, 0.0, 0.9, 0.0, 0.0], 2, d);
+        let p = t.model.predict(&probe);
         assert!(p[1] > p[0] + 0.3, "predictions {p:?}");
     }
 }

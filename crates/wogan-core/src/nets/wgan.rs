@@ -3,15 +3,13 @@
 //! One epoch = `critic_steps` critic steps on the batch (fresh noise and interpolation weights
 //! each step) followed by one generator step on a fresh noise batch, as in the reference.
 
-use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
-use burn::prelude::*;
 use rand::{Rng, RngExt};
 
+use super::adam::{Adam, AdamConfig};
 use super::critic::Critic;
-use super::generator::Generator;
-use super::layers::{matrix, scalar, uniform_noise};
+use super::generator::{uniform_noise, Generator};
+use super::matrix::Matrix;
 use crate::config::{CriticConfig, GeneratorConfig, WganConfig};
-use crate::error::Error;
 
 /// What one critic step measured.
 #[derive(Debug, Clone, Copy, Default)]
@@ -37,11 +35,9 @@ pub(crate) struct WganLosses {
 pub(crate) struct Wgan {
     pub generator: Generator,
     pub critic: Critic,
-    opt_g: ModuleOptimizer,
-    opt_c: ModuleOptimizer,
+    opt_g: Adam,
+    opt_c: Adam,
     cfg: WganConfig,
-    noise_dim: usize,
-    device: Device,
 }
 
 impl Wgan {
@@ -51,97 +47,77 @@ impl Wgan {
         c: &CriticConfig,
         cfg: &WganConfig,
         rng: &mut R,
-        device: &Device,
     ) -> Self {
-        let generator = Generator::new(dim, g, rng, device);
-        let critic = Critic::new(dim, c, rng, device);
-        Self::from_networks(generator, critic, cfg, device)
+        let generator = Generator::new(dim, g, rng);
+        let critic = Critic::new(dim, c, rng);
+        Self::from_networks(generator, critic, cfg)
     }
 
     /// Both networks as given, with fresh optimisers.
-    pub fn from_networks(
-        generator: Generator,
-        critic: Critic,
-        cfg: &WganConfig,
-        device: &Device,
-    ) -> Self {
+    pub fn from_networks(generator: Generator, critic: Critic, cfg: &WganConfig) -> Self {
         // PyTorch's Adam epsilon: stgem passes only the learning rate and betas.
-        let adam = AdamConfig::new()
-            .with_beta_1(cfg.beta1)
-            .with_beta_2(cfg.beta2)
-            .with_epsilon(1e-8);
+        let adam = AdamConfig {
+            lr: cfg.lr as f32,
+            beta1: cfg.beta1,
+            beta2: cfg.beta2,
+            epsilon: 1e-8,
+            weight_decay: None,
+        };
         Self {
-            noise_dim: generator.input.weight.dims()[0],
             generator,
             critic,
-            opt_g: adam.init(),
-            opt_c: adam.init(),
+            opt_g: Adam::new(adam),
+            opt_c: Adam::new(adam),
             cfg: cfg.clone(),
-            device: device.clone(),
         }
     }
 
     /// One epoch on `real: [m, d]`: `critic_steps` critic steps, then a generator step.
-    pub fn epoch<R: Rng + ?Sized>(
-        &mut self,
-        real: Tensor<2>,
-        rng: &mut R,
-    ) -> Result<WganLosses, Error> {
-        let m = real.dims()[0];
+    pub fn epoch<R: Rng + ?Sized>(&mut self, real: &Matrix, rng: &mut R) -> WganLosses {
+        let m = real.rows;
+        let noise_dim = self.generator.noise_dim();
         let mut losses = WganLosses::default();
         // Batch normalisation needs two rows; the fake batch matches the real one for the
         // interpolates, but never drops below that.
         let fakes = m.max(2);
         for _ in 0..self.cfg.critic_steps {
-            let noise = uniform_noise(rng, fakes, self.noise_dim, &self.device);
+            let noise = uniform_noise(rng, fakes, noise_dim);
             let eps: Vec<f32> = (0..m).map(|_| rng.random::<f32>()).collect();
-            let step = self.critic_step(real.clone(), noise, matrix(eps, m, 1, &self.device))?;
+            let step = self.critic_step(real, &noise, &eps);
             losses.critic = step.loss;
             losses.penalty = step.penalty;
             losses.wasserstein = step.wasserstein;
         }
-        let noise = uniform_noise(rng, self.cfg.noise_batch, self.noise_dim, &self.device);
-        losses.generator = self.generator_step(noise)?;
-        Ok(losses)
+        let noise = uniform_noise(rng, self.cfg.noise_batch, noise_dim);
+        losses.generator = self.generator_step(&noise);
+        losses
     }
 
     /// One critic step on `real: [m, d]` against the generator's output for `noise: [>= m,
-    /// noise_dim]` (its first `m` rows), interpolating with `eps: [m, 1]`.
+    /// noise_dim]` (its first `m` rows), interpolating with `eps: [m]`.
     ///
     /// The generator runs in training mode, so its batch statistics move with every critic
     /// step, as in stgem.
-    pub fn critic_step(
-        &mut self,
-        real: Tensor<2>,
-        noise: Tensor<2>,
-        eps: Tensor<2>,
-    ) -> Result<CriticStep, Error> {
-        let m = real.dims()[0];
-        let fake = self.generator.forward(noise).detach().slice(s![0..m, ..]);
-        let out = self.critic.loss(real, fake, eps, self.cfg.gp_coef);
-        let grads = GradientsParams::from_grads(out.loss.backward(), &self.critic);
-        let step = CriticStep {
-            loss: scalar(out.loss.detach())?,
-            penalty: scalar(out.penalty)?,
-            wasserstein: scalar(out.wasserstein)?,
-        };
-        let critic = self.critic.clone();
-        self.critic = self.opt_c.step(self.cfg.lr, critic, grads);
-        Ok(step)
+    pub fn critic_step(&mut self, real: &Matrix, noise: &Matrix, eps: &[f32]) -> CriticStep {
+        let m = real.rows;
+        let fake = self.generator.train(noise).output().row_range(0, m);
+        let (loss, grads) = self.critic.loss(real, &fake, eps, self.cfg.gp_coef as f32);
+        self.opt_c.step(self.critic.params_mut(), &grads.tensors());
+        CriticStep {
+            loss: f64::from(loss.loss),
+            penalty: f64::from(loss.penalty),
+            wasserstein: f64::from(loss.wasserstein),
+        }
     }
 
     /// One generator step on `noise: [n, noise_dim]`; returns its loss `−mean C(G(noise))`.
-    pub fn generator_step(&mut self, noise: Tensor<2>) -> Result<f64, Error> {
-        let loss = self
-            .critic
-            .forward(self.generator.forward(noise))
-            .mean()
-            .neg();
-        // Only the generator's parameters are stepped; the critic's gradients are dropped.
-        let grads = GradientsParams::from_grads(loss.backward(), &self.generator);
-        let value = scalar(loss.detach())?;
-        let generator = self.generator.clone();
-        self.generator = self.opt_g.step(self.cfg.lr, generator, grads);
-        Ok(value)
+    pub fn generator_step(&mut self, noise: &Matrix) -> f64 {
+        let tape = self.generator.train(noise);
+        // Only the generator's parameters are stepped; the critic only passes the gradient on.
+        let (mean, d_out) = self.critic.mean_and_input_grad(tape.output(), -1.0);
+        let grads = self.generator.backward(&tape, &d_out);
+        self.opt_g
+            .step(self.generator.params_mut(), &grads.tensors());
+        f64::from(-mean)
     }
 }

@@ -4,7 +4,6 @@
 //! The loop around it (random phase, retraining every few tests, budget, events) is in
 //! [`crate::run()`].
 
-use burn::prelude::*;
 use rand::seq::index;
 use rand::{Rng, RngExt};
 
@@ -15,9 +14,7 @@ use super::novelty::is_novel;
 use super::training_round::{AnalyzerSteps, TrainingData};
 use crate::config::WoganConfig;
 use crate::error::Error;
-use crate::nets::{
-    logit_target, matrix, uniform_noise, values, Analyzer, AnalyzerTrainer, Generator, Wgan,
-};
+use crate::nets::{logit_target, uniform_noise, Analyzer, AnalyzerTrainer, Generator, Wgan};
 use crate::sut::Sut;
 use crate::test_sampler::Sampler;
 
@@ -55,8 +52,6 @@ pub struct Proposal {
 pub struct WoganModel {
     dim: usize,
     cfg: WoganConfig,
-    device: Device,
-    plain: Device,
     analyzer: AnalyzerTrainer,
     wgan: Wgan,
     tests: Vec<f32>,
@@ -66,7 +61,7 @@ pub struct WoganModel {
     bins: Vec<Vec<usize>>,
     bin_of_test: Vec<usize>,
     rounds: usize,
-    /// Generator and analyzer in inference mode (plain device, running batch statistics),
+    /// Generator and analyzer as they propose (the generator with its running batch statistics),
     /// refreshed after each training round rather than per candidate batch.
     inference: Option<(Generator, Analyzer)>,
     /// Whether the analyzer trains on a second thread beside the WGAN.
@@ -76,14 +71,11 @@ pub struct WoganModel {
 impl WoganModel {
     /// Fresh networks (weights drawn from `rng`) and no data.
     pub fn new<R: Rng + ?Sized>(dim: usize, cfg: &WoganConfig, rng: &mut R) -> Self {
-        let device = Device::flex().autodiff();
-        let analyzer = AnalyzerTrainer::new(dim, &cfg.analyzer, rng, &device);
-        let wgan = Wgan::new(dim, &cfg.generator, &cfg.critic, &cfg.wgan, rng, &device);
+        let analyzer = AnalyzerTrainer::new(dim, &cfg.analyzer, rng);
+        let wgan = Wgan::new(dim, &cfg.generator, &cfg.critic, &cfg.wgan, rng);
         Self {
             dim,
             cfg: cfg.clone(),
-            plain: device.clone().without_autodiff(),
-            device,
             analyzer,
             wgan,
             tests: Vec::new(),
@@ -178,7 +170,6 @@ impl WoganModel {
         let Self {
             dim,
             cfg,
-            device,
             analyzer,
             wgan,
             tests,
@@ -190,10 +181,9 @@ impl WoganModel {
             dim: *dim,
             tests,
             targets,
-            device,
         };
         let mut stats = TrainStats::default();
-        let mut wgan_epoch = |rng: &mut R, stats: &mut TrainStats| -> Result<(), Error> {
+        let mut wgan_epoch = |rng: &mut R, stats: &mut TrainStats| {
             let idx = biased_batch(
                 bins,
                 &newest,
@@ -201,12 +191,11 @@ impl WoganModel {
                 alpha,
                 &mut RngDraws(&mut *rng),
             );
-            let l = wgan.epoch(data.rows(&idx), rng)?;
+            let l = wgan.epoch(&data.rows(&idx), rng);
             stats.critic_loss = l.critic;
             stats.generator_loss = l.generator;
             stats.wasserstein_estimate = l.wasserstein;
             stats.gradient_penalty = l.penalty;
-            Ok(())
         };
         let max_batch = cfg.analyzer.max_batch;
         let draw =
@@ -219,37 +208,35 @@ impl WoganModel {
                 let worker = scope.spawn(|| {
                     let mut trainer = AnalyzerSteps::new(analyzer, &data, steps);
                     for batch in batches {
-                        trainer.step(batch)?;
+                        trainer.step(batch);
                     }
-                    Ok::<_, Error>(trainer.loss)
+                    trainer.loss
                 });
-                let mut result = Ok(());
                 for _ in 0..epochs {
                     for _ in 0..analyzer_epochs {
-                        // A worker that stopped on an error says so when joined.
+                        // A worker that panicked says so when joined.
                         let _ = to_analyzer.send(draw(rng));
                     }
-                    result = result.and_then(|()| wgan_epoch(rng, &mut stats));
+                    wgan_epoch(rng, &mut stats);
                 }
                 drop(to_analyzer);
-                let loss = worker
+                worker
                     .join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-                result.and(loss)
-            })?;
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            });
             stats.analyzer_loss = analyzer_loss;
         } else {
             let mut trainer = AnalyzerSteps::new(analyzer, &data, steps);
             for _ in 0..epochs {
                 for _ in 0..analyzer_epochs {
-                    trainer.step(draw(rng))?;
+                    trainer.step(draw(rng));
                 }
-                wgan_epoch(rng, &mut stats)?;
+                wgan_epoch(rng, &mut stats);
             }
             stats.analyzer_loss = trainer.loss;
         }
         self.rounds += 1;
-        self.inference = Some((self.wgan.generator.valid(), self.analyzer.model.valid()));
+        self.inference = Some((self.wgan.generator.clone(), self.analyzer.model.clone()));
         Ok(stats)
     }
 
@@ -303,19 +290,11 @@ impl WoganModel {
             if !sampler.should_go_on() {
                 return Err(Error::Interrupted);
             }
-            let noise = uniform_noise(rng, batch, noise_dim, &self.plain);
-            let generated = generator.forward(noise);
-            let mut cands = values(generated.clone())?;
-            let is_mutant = self.mix_in_mutants(&mut cands, &parents, rng);
-            // Only a batch with mutants needs a new tensor; the paper's path scores the
-            // generator's output as it is.
-            let scored = if is_mutant.contains(&true) {
-                matrix(cands.clone(), batch, self.dim, &self.plain)
-            } else {
-                generated
-            };
-            let pred = values(analyzer.predict(scored))?;
-            for ((c, p), mutant) in cands.chunks_exact(self.dim).zip(pred).zip(is_mutant) {
+            let noise = uniform_noise(rng, batch, noise_dim);
+            let mut cands = generator.infer(&noise);
+            let is_mutant = self.mix_in_mutants(&mut cands.data, &parents, rng);
+            let pred = analyzer.predict(&cands);
+            for ((c, p), mutant) in cands.data.chunks_exact(self.dim).zip(pred).zip(is_mutant) {
                 let is_invalid = !sut.is_valid(c);
                 // A candidate too near a test executed before is skipped like an invalid one
                 // but not counted as invalid (`novelty`).

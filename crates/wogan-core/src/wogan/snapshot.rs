@@ -5,9 +5,6 @@
 //! The critic and the optimisers' state are not kept, so a model restored from a snapshot
 //! proposes as the run's last round did but does not continue its training.
 
-use burn::module::{Param, RunningState};
-use burn::nn::Linear;
-use burn::prelude::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
 use serde::{Deserialize, Serialize};
@@ -15,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use super::model::WoganModel;
 use crate::config::{RunConfig, WoganConfig};
 use crate::error::Error;
-use crate::nets::{values, Analyzer, BatchNorm, Generator};
+use crate::nets::{Analyzer, BatchNorm, Dense, Generator};
 
 /// The layers a snapshot holds, each one prefix of its tensors' names.
 const TENSOR_PREFIXES: [&str; 8] = [
@@ -51,45 +48,47 @@ pub struct ModelSnapshot {
     pub tensors: Vec<NamedTensor>,
 }
 
-fn tensor<const D: usize>(name: &str, t: Tensor<D>) -> Result<NamedTensor, Error> {
-    Ok(NamedTensor {
-        name: name.to_owned(),
-        shape: t.dims().to_vec(),
-        values: values(t)?,
-    })
-}
-
-fn linear_tensors(prefix: &str, layer: &Linear, out: &mut Vec<NamedTensor>) -> Result<(), Error> {
-    out.push(tensor(&format!("{prefix}.weight"), layer.weight.val())?);
-    if let Some(bias) = &layer.bias {
-        out.push(tensor(&format!("{prefix}.bias"), bias.val())?);
+fn tensor(name: String, shape: Vec<usize>, values: &[f32]) -> NamedTensor {
+    NamedTensor {
+        name,
+        shape,
+        values: values.to_vec(),
     }
-    Ok(())
 }
 
-fn norm_tensors(prefix: &str, norm: &BatchNorm, out: &mut Vec<NamedTensor>) -> Result<(), Error> {
-    out.push(tensor(&format!("{prefix}.gamma"), norm.gamma.val())?);
-    out.push(tensor(&format!("{prefix}.beta"), norm.beta.val())?);
+fn linear_tensors(prefix: &str, layer: &Dense, out: &mut Vec<NamedTensor>) {
+    let (d_in, d_out) = (layer.d_in(), layer.d_out());
     out.push(tensor(
-        &format!("{prefix}.running_mean"),
-        norm.running_mean.value(),
-    )?);
-    out.push(tensor(
-        &format!("{prefix}.running_var"),
-        norm.running_var.value(),
-    )?);
-    Ok(())
+        format!("{prefix}.weight"),
+        vec![d_in, d_out],
+        &layer.weight.data,
+    ));
+    out.push(tensor(format!("{prefix}.bias"), vec![d_out], &layer.bias));
+}
+
+fn norm_tensors(prefix: &str, norm: &BatchNorm, out: &mut Vec<NamedTensor>) {
+    for (name, values) in [
+        ("gamma", &norm.gamma),
+        ("beta", &norm.beta),
+        ("running_mean", &norm.running_mean),
+        ("running_var", &norm.running_var),
+    ] {
+        out.push(tensor(
+            format!("{prefix}.{name}"),
+            vec![values.len()],
+            values,
+        ));
+    }
 }
 
 /// The snapshot's tensors by name, each taken once, with its shape checked against the network
 /// built from the snapshot's settings.
 struct Tensors<'a> {
     all: &'a [NamedTensor],
-    device: Device,
 }
 
 impl Tensors<'_> {
-    fn data(&self, name: &str, shape: &[usize]) -> Result<TensorData, Error> {
+    fn data(&self, name: &str, shape: &[usize]) -> Result<Vec<f32>, Error> {
         let t = self
             .all
             .iter()
@@ -112,35 +111,22 @@ impl Tensors<'_> {
                 "{name}: a value is not a number ({bad})"
             )));
         }
-        Ok(TensorData::new(t.values.clone(), shape.to_vec()))
+        Ok(t.values.clone())
     }
 
-    fn linear(&self, prefix: &str, layer: &mut Linear) -> Result<(), Error> {
-        let shape = layer.weight.val().dims().to_vec();
-        layer.weight = Param::from_data(
-            self.data(&format!("{prefix}.weight"), &shape)?,
-            &self.device,
-        );
-        if let Some(bias) = &layer.bias {
-            let shape = bias.val().dims().to_vec();
-            layer.bias = Some(Param::from_data(
-                self.data(&format!("{prefix}.bias"), &shape)?,
-                &self.device,
-            ));
-        }
+    fn linear(&self, prefix: &str, layer: &mut Dense) -> Result<(), Error> {
+        let (d_in, d_out) = (layer.d_in(), layer.d_out());
+        layer.weight.data = self.data(&format!("{prefix}.weight"), &[d_in, d_out])?;
+        layer.bias = self.data(&format!("{prefix}.bias"), &[d_out])?;
         Ok(())
     }
 
     fn norm(&self, prefix: &str, norm: &mut BatchNorm) -> Result<(), Error> {
-        let shape = norm.gamma.val().dims().to_vec();
-        norm.gamma = Param::from_data(self.data(&format!("{prefix}.gamma"), &shape)?, &self.device);
-        norm.beta = Param::from_data(self.data(&format!("{prefix}.beta"), &shape)?, &self.device);
-        let running = |name: &str| -> Result<RunningState<Tensor<1>>, Error> {
-            let data = self.data(&format!("{prefix}.{name}"), &shape)?;
-            Ok(RunningState::new(Tensor::from_data(data, &self.device)))
-        };
-        norm.running_mean = running("running_mean")?;
-        norm.running_var = running("running_var")?;
+        let shape = [norm.gamma.len()];
+        norm.gamma = self.data(&format!("{prefix}.gamma"), &shape)?;
+        norm.beta = self.data(&format!("{prefix}.beta"), &shape)?;
+        norm.running_mean = self.data(&format!("{prefix}.running_mean"), &shape)?;
+        norm.running_var = self.data(&format!("{prefix}.running_var"), &shape)?;
         Ok(())
     }
 }
@@ -152,22 +138,22 @@ impl WoganModel {
             Error::Snapshot("no generator trained yet (the run ended in its random phase)".into())
         })?;
         let mut tensors = Vec::new();
-        linear_tensors("generator.input", &generator.input, &mut tensors)?;
-        linear_tensors("generator.hidden", &generator.hidden, &mut tensors)?;
+        linear_tensors("generator.input", &generator.input, &mut tensors);
+        linear_tensors("generator.hidden", &generator.hidden, &mut tensors);
         norm_tensors(
             "generator.hidden_norm",
             &generator.hidden_norm,
             &mut tensors,
-        )?;
-        linear_tensors("generator.output", &generator.output, &mut tensors)?;
+        );
+        linear_tensors("generator.output", &generator.output, &mut tensors);
         norm_tensors(
             "generator.output_norm",
             &generator.output_norm,
             &mut tensors,
-        )?;
-        linear_tensors("analyzer.l1", &analyzer.l1, &mut tensors)?;
-        linear_tensors("analyzer.l2", &analyzer.l2, &mut tensors)?;
-        linear_tensors("analyzer.l3", &analyzer.l3, &mut tensors)?;
+        );
+        linear_tensors("analyzer.l1", &analyzer.l1, &mut tensors);
+        linear_tensors("analyzer.l2", &analyzer.l2, &mut tensors);
+        linear_tensors("analyzer.l3", &analyzer.l3, &mut tensors);
         Ok(ModelSnapshot {
             dim: self.dim(),
             config: self.config().clone(),
@@ -191,12 +177,10 @@ impl WoganModel {
         // The networks are built to the settings' shapes (any weights) and then overwritten.
         let mut rng = ChaCha20Rng::seed_from_u64(0);
         let mut model = WoganModel::new(snapshot.dim, cfg, &mut rng);
-        let plain = Device::flex();
-        let mut generator = Generator::new(snapshot.dim, &cfg.generator, &mut rng, &plain);
-        let mut analyzer = Analyzer::new(snapshot.dim, &cfg.analyzer, &mut rng, &plain);
+        let mut generator = Generator::new(snapshot.dim, &cfg.generator, &mut rng);
+        let mut analyzer = Analyzer::new(snapshot.dim, &cfg.analyzer, &mut rng);
         let tensors = Tensors {
             all: &snapshot.tensors,
-            device: plain,
         };
         tensors.linear("generator.input", &mut generator.input)?;
         tensors.linear("generator.hidden", &mut generator.hidden)?;

@@ -2,41 +2,38 @@
 //! and the analyzer's steps in order, which may run on a thread of their own beside the WGAN's
 //! (the model's `set_concurrent_training`).
 
-use burn::prelude::*;
-
-use crate::error::Error;
-use crate::nets::{matrix, AnalyzerTrainer};
+use crate::nets::{AnalyzerTrainer, Matrix};
 
 /// The data a training round reads, shared by the threads that train.
 pub(super) struct TrainingData<'a> {
     pub dim: usize,
     pub tests: &'a [f32],
     pub targets: &'a [f32],
-    pub device: &'a Device,
 }
 
 impl TrainingData<'_> {
     /// The tests `idx` as a matrix, one row each.
-    pub fn rows(&self, idx: &[usize]) -> Tensor<2> {
+    pub fn rows(&self, idx: &[usize]) -> Matrix {
         let mut v = Vec::with_capacity(idx.len() * self.dim);
         for &i in idx {
             v.extend_from_slice(&self.tests[i * self.dim..(i + 1) * self.dim]);
         }
-        matrix(v, idx.len(), self.dim, self.device)
+        Matrix::new(v, idx.len(), self.dim)
     }
 
     /// The analyzer's inputs and logit targets for the tests `idx` (`None`: all tests).
-    fn analyzer_batch(&self, idx: Option<&[usize]>) -> (Tensor<2>, Tensor<2>) {
+    fn analyzer_batch(&self, idx: Option<&[usize]>) -> (Matrix, Vec<f32>) {
         match idx {
             None => {
                 let n = self.targets.len();
-                let x = matrix(self.tests.to_vec(), n, self.dim, self.device);
-                let y = matrix(self.targets.to_vec(), n, 1, self.device);
-                (x, y)
+                (
+                    Matrix::new(self.tests.to_vec(), n, self.dim),
+                    self.targets.to_vec(),
+                )
             }
             Some(idx) => {
                 let y: Vec<f32> = idx.iter().map(|&i| self.targets[i]).collect();
-                (self.rows(idx), matrix(y, idx.len(), 1, self.device))
+                (self.rows(idx), y)
             }
         }
     }
@@ -47,7 +44,7 @@ impl TrainingData<'_> {
 pub(super) struct AnalyzerSteps<'a> {
     analyzer: &'a mut AnalyzerTrainer,
     data: &'a TrainingData<'a>,
-    fixed: Option<(Tensor<2>, Tensor<2>)>,
+    fixed: Option<(Matrix, Vec<f32>)>,
     left: usize,
     /// The loss the last step reported (0 before it).
     pub loss: f64,
@@ -69,18 +66,22 @@ impl<'a> AnalyzerSteps<'a> {
     }
 
     /// One step on `batch` (`None`: all the data).
-    pub fn step(&mut self, batch: Option<Vec<usize>>) -> Result<(), Error> {
-        let (x, y) = match batch {
-            Some(idx) => self.data.analyzer_batch(Some(&idx)),
-            None => self
-                .fixed
-                .get_or_insert_with(|| self.data.analyzer_batch(None))
-                .clone(),
-        };
+    pub fn step(&mut self, batch: Option<Vec<usize>>) {
         self.left = self.left.saturating_sub(1);
-        if let Some(loss) = self.analyzer.step(x, y, self.left == 0)? {
+        let report = self.left == 0;
+        let loss = match batch {
+            Some(idx) => {
+                let (x, y) = self.data.analyzer_batch(Some(&idx));
+                self.analyzer.step(&x, &y, report)
+            }
+            None => {
+                let data = self.data;
+                let (x, y) = self.fixed.get_or_insert_with(|| data.analyzer_batch(None));
+                self.analyzer.step(x, y, report)
+            }
+        };
+        if let Some(loss) = loss {
             self.loss = loss;
         }
-        Ok(())
     }
 }
