@@ -335,6 +335,14 @@ FIELD_ROWS = [("tests executed", "tests"), ("failures", "failures"),
 FIELD_COMPARED = ("failures per run", "diversity", "distinct failures per run")
 
 
+def rounded(text):
+    """A figure of `wogan report` (three decimals) to one, as the page writes numbers."""
+    try:
+        return num(float(text.replace(",", "")))
+    except ValueError:
+        return text
+
+
 def group_means(paths):
     """{measure name: (mean, runs)} of one group, from `wogan report PATHS --out DIR`."""
     folder = os.path.join(WORK, "field-report")
@@ -381,7 +389,7 @@ def field_section():
             cells = []
             for key, _ in FIELD_ROWS:
                 found = next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))
-                cells.append(found[0])
+                cells.append(rounded(found[0]))
             out(f"| {name} | {len(paths)} | " + " | ".join(cells) + " |")
         preset = groups[0][1]
         if not preset:
@@ -398,8 +406,8 @@ def field_section():
             for line in report_table(*preset, "--vs", *paths):
                 cells = [c.strip() for c in line.strip().strip("|").split("|")]
                 if cells and cells[0] in FIELD_COMPARED:
-                    a, b, p = cells[1].split(" (")[0], cells[2].split(" (")[0], cells[4]
-                    rows[cells[0]] = f"{a} / {b}, {p}"
+                    a, b = (rounded(c.split(" (")[0]) for c in cells[1:3])
+                    rows[cells[0]] = f"{a} / {b}, p {cells[4]}"
             out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
 
 

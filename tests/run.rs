@@ -150,6 +150,42 @@ fn mutants_join_the_candidates_when_asked_for() {
 }
 
 #[test]
+fn the_sbst_preset_sets_its_roads_novelty_and_mutants_and_options_still_win() {
+    let (code, records) = run(&["--max-tests", "12", "--seed", "3", "--preset", "sbst"]);
+    assert_eq!(code, Some(0));
+    let config = &records[0]["config"];
+    assert_eq!(config["preset"], "sbst");
+    assert_eq!(config["curvature_points"], 8);
+    assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.1);
+    assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.25);
+    let tests = of_type(&records, "test");
+    assert_eq!(tests.len(), 12);
+    // Nine road points: eight curvature values.
+    assert!(tests
+        .iter()
+        .all(|t| t["road_points"].as_array().unwrap().len() == 9));
+    let (code, records) = run(&[
+        "--max-tests",
+        "3",
+        "--preset",
+        "sbst",
+        "--curvature-points",
+        "6",
+        "--mutation-share",
+        "0",
+    ]);
+    assert_eq!(code, Some(0));
+    let config = &records[0]["config"];
+    assert_eq!(config["curvature_points"], 6);
+    assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.0);
+    // The paper's WOGAN has neither.
+    let (_, records) = run(&["--max-tests", "3"]);
+    let config = &records[0]["config"];
+    assert!(config.get("preset").is_none());
+    assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.0);
+}
+
+#[test]
 fn a_slower_target_decay_ranks_more_candidates() {
     let ranked_per_test = |decay: &str| {
         let (code, records) = run(&["--max-tests", "20", "--seed", "4", "--target-decay", decay]);
@@ -226,6 +262,8 @@ fn bad_options_exit_2() {
         &["--algorithm", "random", "--target-decay", "0.99"],
         &["--round-acceptance", "sometimes"],
         &["--algorithm", "random", "--round-acceptance", "restart"],
+        &["--preset", "fast"],
+        &["--algorithm", "random", "--preset", "sbst"],
         // The competition's budgets go together, in seconds or as durations, and not with the
         // one real-time budget.
         &["--generation-budget", "3600"],

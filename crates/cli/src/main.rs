@@ -22,8 +22,8 @@ mod report;
 mod road_sut;
 mod run_file;
 mod saved_roads;
-mod search_preset;
 mod sbst;
+mod search_preset;
 mod suite_file;
 mod value_parsers;
 

@@ -286,7 +286,7 @@ impl RunPlan {
         let mut search_defaults = RunConfig::default();
         search_defaults.wogan.target_decay = default_target_decay(fitness, &sim);
         if let Some(preset) = args.preset {
-            preset.apply(&mut search_defaults, fitness, &sim);
+            preset.apply(&mut search_defaults);
         }
         let mut search = RunConfig {
             algorithm: match args.algorithm {

@@ -380,11 +380,17 @@ mod tests {
         let paper = key_of(
             r#"{"curvature_points":5,"road":{"step_m":15.0},"search":{"wogan":{"target_decay":0.95,"novelty":{"distance":0.0}}}}"#,
         );
-        assert_eq!((paper.acceptance.as_str(), paper.roads.as_str()), ("decay 0.95", ""));
+        assert_eq!(
+            (paper.acceptance.as_str(), paper.roads.as_str()),
+            ("decay 0.95", "")
+        );
         let preset = key_of(
             r#"{"curvature_points":8,"road":{"step_m":15.0},"search":{"wogan":{"target_decay":0.95,"novelty":{"distance":0.2,"min_fitness":0.85}}}}"#,
         );
-        assert_eq!(preset.acceptance, "decay 0.95, novelty 0.2 from fitness 0.85");
+        assert_eq!(
+            preset.acceptance,
+            "decay 0.95, novelty 0.2 from fitness 0.85"
+        );
         assert_eq!(preset.roads, "8 x 15 m roads");
         assert!(preset
             .label()

@@ -78,7 +78,9 @@
 //!   up after 100 invalid candidates in one choice and retrain, but raises an exception it never
 //!   imported, which ends the run.
 //! - Fitness values outside `[0, 1]` are clamped, NaN becomes 0.
-//! - In a WOGAN run, `jobs > 1` parallelises only the random phase; WOGAN's loop is sequential.
+//! - With `jobs > 1` WOGAN chooses rounds of up to `jobs` tests, executes them at once and
+//!   trains on the schedule of tests executed ([`RoundAcceptance`]); `jobs = 1` is the paper's
+//!   loop.
 //!
 //! # Beyond the paper: mutants among the candidates
 //!
@@ -87,6 +89,14 @@
 //! ([`MutationConfig`]); the analyzer ranks them with the generator's candidates and the test
 //! line's `phase` says `"mutant"` when one is executed. The default, 0, is the paper's WOGAN. The
 //! authors proposed mutating failing tests for diversity.
+//!
+//! # Beyond the paper: novelty
+//!
+//! With [`NoveltyConfig::distance`] above 0, a candidate is ranked only when it lies at least that
+//! far (root mean square over the values, normalised units) from every test executed so far, or
+//! from every one of at least [`NoveltyConfig::min_fitness`]. Skipped candidates count towards
+//! the invalid streak, not as invalid. WOGAN otherwise spends much of a budget re-finding its
+//! first failures; the default, 0, is the paper's WOGAN.
 //!
 //! # The critic
 //!
@@ -110,8 +120,8 @@ mod stgem_parity;
 
 pub use budget::{Budget, SbstBudget, SbstUsage};
 pub use config::{
-    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig, NoveltyConfig,
-    RoundAcceptance, RunConfig, SamplerConfig, WganConfig, WoganConfig,
+    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig,
+    NoveltyConfig, RoundAcceptance, RunConfig, SamplerConfig, WganConfig, WoganConfig,
 };
 pub use error::Error;
 pub use run::{run, run_from_snapshot, run_with_snapshot, Event, Phase, Summary};

@@ -87,9 +87,10 @@ const YIELD: [(&str, Measure); 2] = [
     ("failures per simulated hour", |m| {
         m.failures_per_simulated_hour
     }),
-    ("failing road length (m; median of a run's failing roads)", |m| {
-        m.failing_road_length_m
-    }),
+    (
+        "failing road length (m; median of a run's failing roads)",
+        |m| m.failing_road_length_m,
+    ),
 ];
 
 /// How a search met and exploited failures (and how near it came when it met none), per run: a

@@ -530,4 +530,46 @@ mod tests {
         paper.train(0.0, &mut rng).unwrap();
         assert!(!paper.propose(&Anything, &sampler, &mut rng).unwrap().mutant);
     }
+
+    #[test]
+    fn with_novelty_no_proposal_lies_near_an_executed_test() {
+        let novelty = crate::NoveltyConfig {
+            distance: 0.3,
+            min_fitness: 0.5,
+        };
+        let cfg = WoganConfig {
+            novelty: novelty.clone(),
+            ..WoganConfig::default()
+        };
+        let sampler = Sampler::new(3, SamplerConfig::default());
+        let mut rng = ChaCha20Rng::seed_from_u64(5);
+        let mut model = WoganModel::new(3, &cfg, &mut rng);
+        let mut anchors = Vec::new();
+        for k in 0..30 {
+            let t = sampler.sample(&mut rng);
+            // Every third test reaches the fitness that keeps candidates away.
+            let fitness = if k % 3 == 0 { 0.9 } else { 0.1 };
+            if fitness >= novelty.min_fitness {
+                anchors.push(t.clone());
+            }
+            model.add(&t, fitness);
+        }
+        model.train(0.0, &mut rng).unwrap();
+        let rms = |a: &[f32], b: &[f32]| {
+            let sum: f32 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
+            (sum / a.len() as f32).sqrt()
+        };
+        for _ in 0..20 {
+            let p = model.propose(&Anything, &sampler, &mut rng).unwrap();
+            // A proposal the analyzer ranked is novel; a random fallback need not be.
+            if p.predicted.is_some() {
+                let nearest = anchors
+                    .iter()
+                    .map(|a| rms(a, &p.test))
+                    .fold(f32::MAX, f32::min);
+                assert!(nearest >= novelty.distance, "{nearest} from {:?}", p.test);
+            }
+            assert_eq!(p.invalid, 0, "skipped candidates are not invalid ones");
+        }
+    }
 }
