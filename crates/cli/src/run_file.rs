@@ -230,7 +230,7 @@ fn roads(config: &Value) -> String {
     let points = config.pointer("/curvature_points").and_then(Value::as_u64);
     let step_m = config.pointer("/road/step_m").and_then(Value::as_f64);
     match (points, step_m) {
-        (Some(5), Some(step_m)) if step_m == 15.0 => String::new(),
+        (Some(5), Some(15.0)) => String::new(),
         (Some(points), Some(step_m)) => format!("{points} x {step_m} m roads"),
         _ => String::new(),
     }
