@@ -407,7 +407,8 @@ def field_section():
                 cells = [c.strip() for c in line.strip().strip("|").split("|")]
                 if cells and cells[0] in FIELD_COMPARED:
                     a, b = (rounded(c.split(" (")[0]) for c in cells[1:3])
-                    rows[cells[0]] = f"{a} / {b}, p {cells[4]}"
+                    p = "< 0.0001" if cells[4] == "0.0000" else cells[4]
+                    rows[cells[0]] = f"{a} / {b}, p {p}"
             out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
 
 
