@@ -11,9 +11,9 @@
 //! (the sample at which wogan's simulator stops a drive that fails out of its lane), so that the
 //! distinct failures of a peer and of wogan are counted alike.
 //!
-//! The configuration comes from the `summary.json` our harness (`wogan_competition.py`) writes
-//! beside the tests: `generator` names the algorithm, `oracle` the driver, `oob_tolerance` and
-//! `speed_limit` the conditions. Without it (a bare pipeline folder, an export) the algorithm is
+//! The configuration comes from the `summary.json` the peers' harness
+//! (`scripts/peers/run_peer.py`) writes beside the tests: `generator` names the algorithm,
+//! `oracle` the driver, `oob_tolerance` and `speed_limit` the conditions. Without it (a bare pipeline folder, an export) the algorithm is
 //! the folder's name and the rest read `?`: nothing is guessed.
 
 use super::format::{test_file_number, test_files, FIELDS};
