@@ -56,7 +56,8 @@ pub struct WoganModel {
     wgan: Wgan,
     tests: Vec<f32>,
     targets: Vec<f32>,
-    /// The tests that keep candidates away (`novelty`), flattened.
+    /// The tests that keep candidates away (`novelty`), flattened, when only some do (a
+    /// `min_fitness` above 0); otherwise every test does, and `tests` is used as it is.
     novelty_anchors: Vec<f32>,
     bins: Vec<Vec<usize>>,
     bin_of_test: Vec<usize>,
@@ -125,7 +126,7 @@ impl WoganModel {
         self.tests.extend_from_slice(test);
         self.targets.push(logit_target(fitness));
         let novelty = &self.cfg.novelty;
-        if novelty.distance > 0.0 && fitness >= novelty.min_fitness {
+        if novelty.distance > 0.0 && novelty.min_fitness > 0.0 && fitness >= novelty.min_fitness {
             self.novelty_anchors.extend_from_slice(test);
         }
         let b = bin_of(fitness, self.cfg.bins);
@@ -283,6 +284,11 @@ impl WoganModel {
         } else {
             Vec::new()
         };
+        let anchors = if self.cfg.novelty.min_fitness > 0.0 {
+            &self.novelty_anchors
+        } else {
+            &self.tests
+        };
         let mut best: Option<(Vec<f32>, bool)> = None;
         let mut invalid = 0usize;
         let mut streak = 0usize;
@@ -298,7 +304,7 @@ impl WoganModel {
                 let is_invalid = !sut.is_valid(c);
                 // A candidate too near a test executed before is skipped like an invalid one
                 // but not counted as invalid (`novelty`).
-                if is_invalid || !is_novel(c, &self.novelty_anchors, self.cfg.novelty.distance) {
+                if is_invalid || !is_novel(c, anchors, self.cfg.novelty.distance) {
                     invalid += usize::from(is_invalid);
                     streak += 1;
                     if streak >= self.cfg.max_invalid_streak {
