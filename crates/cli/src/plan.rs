@@ -15,7 +15,7 @@ use crate::search_preset::SearchPreset;
 use crate::value_parsers::{budget_duration, fitness_kind, fraction, share};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use road_sim::{CurvatureRoad, DriverConfig, DriverKind, FitnessKind, SimConfig};
+use road_sim::{CurvatureRoad, DriverConfig, DriverKind, FitnessKind, RoadPlacement, SimConfig};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -70,6 +70,11 @@ pub struct RunArgs {
     /// (docs/reference.md).
     #[arg(long, value_enum)]
     pub preset: Option<SearchPreset>,
+    /// Where roads lie on the map: `bottom-centre` (starting there heading north, the paper's) or
+    /// `fitted` (a road that leaves the map from there is turned and moved until it fits, as the
+    /// Frenetic generators place theirs) [default: bottom-centre].
+    #[arg(long, value_enum)]
+    pub road_placement: Option<PlacementArg>,
     /// Distance between road points, metres.
     #[arg(long, default_value_t = DEFAULT_STEP_LENGTH_M, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
     pub step_length: f64,
@@ -107,7 +112,7 @@ pub struct RunArgs {
     /// Choose every test with the generator and analyzer saved in FILE (`--save-generator`), as
     /// the trained WOGAN chooses: no random phase, no training. Its roads' settings and WOGAN's
     /// settings are the file's.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance", "preset"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance", "preset", "road_placement"])]
     pub generator: Option<PathBuf>,
     /// Drive each road with an external program instead of wogan's simulator: `cmd:COMMAND`
     /// (run with `sh -c`; one per worker), speaking the executor protocol (docs/reference.md).
@@ -155,6 +160,24 @@ pub enum AlgorithmArg {
     Wogan,
     /// Random search with the paper's sampler for the whole budget.
     Random,
+}
+
+/// `--road-placement` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlacementArg {
+    /// From the bottom centre of the map heading north (the paper's).
+    BottomCentre,
+    /// Turned and moved to fit the map when a road leaves it from the bottom centre.
+    Fitted,
+}
+
+impl From<PlacementArg> for RoadPlacement {
+    fn from(arg: PlacementArg) -> Self {
+        match arg {
+            PlacementArg::BottomCentre => Self::BottomCentre,
+            PlacementArg::Fitted => Self::Fitted,
+        }
+    }
 }
 
 /// The slowest acceptance decay a matched default may have: about 5x the paper's candidates per
@@ -372,6 +395,10 @@ impl RunPlan {
                 CurvatureRoad {
                     map_size_m: args.driver.map_size,
                     step_m: args.step_length,
+                    placement: args
+                        .road_placement
+                        .map(RoadPlacement::from)
+                        .unwrap_or_default(),
                 },
             ),
         };

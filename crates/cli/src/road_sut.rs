@@ -6,6 +6,7 @@
 use crate::failure_streak::FailureStreak;
 use crate::records::RoadExecution;
 use road_sim::road::curvature::MAX_CURVATURE_PER_M;
+use road_sim::road::heading_profile::heading_profile;
 use road_sim::{
     simulate, CurvatureRoad, DriverConfig, FitnessKind, Road, SimConfig, StopReason, Validator,
 };
@@ -54,6 +55,17 @@ impl Sut for RoadSut<'_> {
         self.validator
             .validate(&self.roads.points(&self.curvature(test)))
             .is_valid()
+    }
+
+    /// The road's heading profile (radians), as the paper's diversity compares failing roads.
+    fn shape(&self, test: &[f32]) -> Option<Vec<f32>> {
+        let road = Road::new(&self.roads.points(&self.curvature(test))).ok()?;
+        Some(
+            heading_profile(&road.interpolated)
+                .into_iter()
+                .map(|h| h as f32)
+                .collect(),
+        )
     }
 
     fn execute(&self, test: &[f32]) -> Option<Execution<RoadExecution>> {

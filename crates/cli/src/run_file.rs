@@ -202,15 +202,17 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
         Some(share) if share > 0.0 => format!("decay {decay}, mutants {share}"),
         _ => format!("decay {decay}"),
     };
-    if let Some(distance) = setting("novelty/distance").filter(|&d| d > 0.0) {
-        // Written from f32: 4 decimals, as the decay.
-        let distance = format!("{distance:.4}");
-        text.push_str(&format!(
-            ", novelty {}",
-            distance.trim_end_matches('0').trim_end_matches('.')
-        ));
-        if let Some(fitness) = setting("novelty/min_fitness").filter(|&f| f > 0.0) {
-            text.push_str(&format!(" from fitness {fitness}"));
+    for (rule, name) in [("novelty", "novelty"), ("shape_novelty", "shape novelty")] {
+        if let Some(distance) = setting(&format!("{rule}/distance")).filter(|&d| d > 0.0) {
+            // Written from f32: 4 decimals, as the decay.
+            let distance = format!("{distance:.4}");
+            text.push_str(&format!(
+                ", {name} {}",
+                distance.trim_end_matches('0').trim_end_matches('.')
+            ));
+            if let Some(fitness) = setting(&format!("{rule}/min_fitness")).filter(|&f| f > 0.0) {
+                text.push_str(&format!(" from fitness {fitness}"));
+            }
         }
     }
     // Rounds of several tests change which tests are chosen (one job is the paper's loop).
@@ -225,14 +227,20 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
     text
 }
 
-/// The roads' shape unless it is the paper's (five curvature values, 15 m apart) or unknown.
+/// The roads' shape unless it is the paper's (five curvature values, 15 m apart) or unknown, and
+/// their placement unless it is the paper's (from the bottom centre).
 fn roads(config: &Value) -> String {
     let points = config.pointer("/curvature_points").and_then(Value::as_u64);
     let step_m = config.pointer("/road/step_m").and_then(Value::as_f64);
-    match (points, step_m) {
+    let shape = match (points, step_m) {
         (Some(5), Some(15.0)) => String::new(),
         (Some(points), Some(step_m)) => format!("{points} x {step_m} m roads"),
         _ => String::new(),
+    };
+    match config.pointer("/road/placement").and_then(Value::as_str) {
+        Some("fitted") if shape.is_empty() => "fitted roads".to_owned(),
+        Some("fitted") => format!("{shape}, fitted"),
+        _ => shape,
     }
 }
 
@@ -396,6 +404,17 @@ mod tests {
             .label()
             .ends_with("novelty 0.2 from fitness 0.85 / 8 x 15 m roads / oob ? / ? km/h"));
         assert_ne!(paper, preset);
+        let shapes = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0},"search":{"wogan":{"target_decay":0.95,"novelty":{"distance":0.1},"shape_novelty":{"distance":0.5,"min_fitness":0.85}}}}"#,
+        );
+        assert_eq!(
+            shapes.acceptance,
+            "decay 0.95, novelty 0.1, shape novelty 0.5 from fitness 0.85"
+        );
+        let fitted = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"search":{"wogan":{"target_decay":0.95}}}"#,
+        );
+        assert_eq!(fitted.roads, "8 x 15 m roads, fitted");
     }
 
     #[test]

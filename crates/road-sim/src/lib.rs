@@ -36,7 +36,7 @@ pub mod validator;
 pub mod vision;
 
 pub use driver::{DriverConfig, DriverKind};
-pub use road::{CurvatureRoad, Point, Road, RoadFeatures};
+pub use road::{CurvatureRoad, Point, Road, RoadFeatures, RoadPlacement};
 pub use setting_checks::SettingsError;
 pub use sim::{
     simulate, Driver, FitnessKind, LaneExit, LaneSide, Observation, Outcome, Sample, SimConfig,

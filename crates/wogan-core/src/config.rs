@@ -114,6 +114,9 @@ pub struct WoganConfig {
     pub mutation: MutationConfig,
     /// Candidates near tests executed before are skipped (an extension; off in the paper).
     pub novelty: NoveltyConfig,
+    /// Candidates whose shape (`Sut::shape`) is near the shape of tests executed before are
+    /// skipped, the distance in the shape's units (an extension; off in the paper).
+    pub shape_novelty: NoveltyConfig,
     /// How the acceptance target carries over between the tests of one round when several are
     /// chosen at once (`jobs` > 1); with one test per round both rules are the paper's.
     pub round_acceptance: RoundAcceptance,
@@ -157,6 +160,7 @@ impl Default for WoganConfig {
             wgan: WganConfig::default(),
             mutation: MutationConfig::default(),
             novelty: NoveltyConfig::default(),
+            shape_novelty: NoveltyConfig::default(),
             round_acceptance: RoundAcceptance::default(),
         }
     }
@@ -349,6 +353,8 @@ pub mod limits {
     pub const MAX_ATTEMPTS: usize = 10_000_000;
     /// Most worker threads.
     pub const MAX_JOBS: usize = 256;
+    /// Largest shape novelty distance: far beyond any two roads' heading profiles (radians).
+    pub const MAX_SHAPE_NOVELTY_DISTANCE: f64 = 100.0;
 }
 
 /// Names `field` and its range unless `value` lies in `[min, max]`.
@@ -452,6 +458,18 @@ impl RunConfig {
             2.0,
         )?;
         check_real(w.novelty.min_fitness, "wogan.novelty.min_fitness", 0.0, 1.0)?;
+        check_real(
+            f64::from(w.shape_novelty.distance),
+            "wogan.shape_novelty.distance",
+            0.0,
+            MAX_SHAPE_NOVELTY_DISTANCE,
+        )?;
+        check_real(
+            w.shape_novelty.min_fitness,
+            "wogan.shape_novelty.min_fitness",
+            0.0,
+            1.0,
+        )?;
         let m = &w.mutation;
         check_real(m.share, "wogan.mutation.share", 0.0, 1.0)?;
         check_count(m.parents, "wogan.mutation.parents", 1, MAX_BATCH)?;

@@ -98,6 +98,10 @@
 //! the invalid streak, not as invalid. WOGAN otherwise spends much of a budget re-finding its
 //! first failures; the default, 0, is the paper's WOGAN.
 //!
+//! [`WoganConfig::shape_novelty`] is the same rule over what a test does rather than its values:
+//! a candidate is compared by [`Sut::shape`] (for a road, its heading profile) with the shapes of
+//! the executed tests. Off by default, and for a SUT without shapes.
+//!
 //! # The critic
 //!
 //! The gradient penalty needs the critic's gradient with respect to its input; it is written

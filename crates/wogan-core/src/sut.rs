@@ -27,6 +27,12 @@ pub trait Sut: Sync {
     /// stopped (the run's `stop` flag, which the SUT may watch), so that no half-done result is
     /// reported as a test.
     fn execute(&self, test: &[f32]) -> Option<Execution<Self::Output>>;
+    /// What a valid test does, as values that compare tests by effect rather than by their own
+    /// values (for a road: its heading profile, radians); `None`, the default, when the SUT has
+    /// no such description. Only the shape novelty rule uses it (`WoganConfig::shape_novelty`).
+    fn shape(&self, _test: &[f32]) -> Option<Vec<f32>> {
+        None
+    }
 }
 
 /// Clamps a reported fitness into `[0, 1]`; NaN becomes 0 so it can never look like a failure.

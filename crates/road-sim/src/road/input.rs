@@ -87,7 +87,12 @@ pub fn parse_value(value: &Value, map_size_m: f64) -> Result<RoadInput, InputErr
                         .filter(|s| s.is_finite() && *s > 0.0)
                         .ok_or_else(|| bad("step", "expected a positive number of metres"))?,
                 };
-                let points = CurvatureRoad { map_size_m, step_m }.points(&curvature);
+                let points = CurvatureRoad {
+                    map_size_m,
+                    step_m,
+                    ..CurvatureRoad::default()
+                }
+                .points(&curvature);
                 return Ok(RoadInput::Curvature { curvature, points });
             }
             // A run's own records pass through a pipe without an answer, unless they hold a road.

@@ -14,7 +14,7 @@ pub mod spline;
 /// A point on the map, metres: `[x, y]`, x east, y north.
 pub type Point = [f64; 2];
 
-pub use curvature::CurvatureRoad;
+pub use curvature::{CurvatureRoad, RoadPlacement};
 pub use features::RoadFeatures;
 pub use geometry::{Road, RoadError, LANE_WIDTH_M, ROAD_WIDTH_M};
 pub use input::{InputError, RoadInput};

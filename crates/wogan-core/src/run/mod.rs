@@ -152,7 +152,7 @@ fn run_inner<S: Sut + ?Sized>(
         // With more than one job the analyzer trains beside the WGAN (the same numbers).
         model.set_concurrent_training(config.jobs > 1);
         for (t, f) in &executed_tests {
-            model.add(t, *f);
+            model.add_executed(sut, t, *f);
         }
         drop(executed_tests);
         let model = wogan_phase(

@@ -203,7 +203,7 @@ fn execute_round<S: Sut + ?Sized>(
         r.summary.invalid_candidates += p.invalid;
         r.summary.generation_s += choice_s;
         if !charge.beyond_budget {
-            model.add(&p.test, fitness);
+            model.add_executed(sut, &p.test, fitness);
             learnt += 1;
             r.summary.executed += 1;
         }

@@ -59,6 +59,9 @@ pub struct WoganModel {
     /// The tests that keep candidates away (`novelty`), flattened, when only some do (a
     /// `min_fitness` above 0); otherwise every test does, and `tests` is used as it is.
     novelty_anchors: Vec<f32>,
+    /// The shapes (`Sut::shape`) of the tests that keep candidates away by `shape_novelty`,
+    /// flattened.
+    shape_anchors: Vec<f32>,
     bins: Vec<Vec<usize>>,
     bin_of_test: Vec<usize>,
     rounds: usize,
@@ -82,6 +85,7 @@ impl WoganModel {
             tests: Vec::new(),
             targets: Vec::new(),
             novelty_anchors: Vec::new(),
+            shape_anchors: Vec::new(),
             bins: vec![Vec::new(); cfg.bins],
             bin_of_test: Vec::new(),
             rounds: 0,
@@ -132,6 +136,31 @@ impl WoganModel {
         let b = bin_of(fitness, self.cfg.bins);
         self.bins[b].push(idx);
         self.bin_of_test.push(b);
+    }
+
+    /// Records a test `sut` executed and its fitness, with the test's shape when the shape
+    /// novelty rule keeps candidates away from it.
+    pub fn add_executed<S: Sut + ?Sized>(&mut self, sut: &S, test: &[f32], fitness: f64) {
+        self.add(test, fitness);
+        let rule = &self.cfg.shape_novelty;
+        if rule.distance > 0.0 && fitness >= rule.min_fitness {
+            if let Some(shape) = sut.shape(test) {
+                self.shape_anchors.extend_from_slice(&shape);
+            }
+        }
+    }
+
+    /// Whether candidate `c` is far enough from the executed tests by both novelty rules.
+    fn is_novel_candidate<S: Sut + ?Sized>(&self, sut: &S, c: &[f32], anchors: &[f32]) -> bool {
+        if !is_novel(c, anchors, self.cfg.novelty.distance) {
+            return false;
+        }
+        let shape_distance = self.cfg.shape_novelty.distance;
+        if shape_distance <= 0.0 || self.shape_anchors.is_empty() {
+            return true;
+        }
+        sut.shape(c)
+            .is_none_or(|shape| is_novel(&shape, &self.shape_anchors, shape_distance))
     }
 
     /// Trains the analyzer on a second thread, alongside the WGAN, from the next training round
@@ -304,7 +333,7 @@ impl WoganModel {
                 let is_invalid = !sut.is_valid(c);
                 // A candidate too near a test executed before is skipped like an invalid one
                 // but not counted as invalid (`novelty`).
-                if is_invalid || !is_novel(c, anchors, self.cfg.novelty.distance) {
+                if is_invalid || !self.is_novel_candidate(sut, c, anchors) {
                     invalid += usize::from(is_invalid);
                     streak += 1;
                     if streak >= self.cfg.max_invalid_streak {
@@ -577,5 +606,74 @@ mod tests {
             }
             assert_eq!(p.invalid, 0, "skipped candidates are not invalid ones");
         }
+    }
+
+    /// Every test valid; a test's shape is its running sum, as a road's heading sums its
+    /// curvature.
+    struct Summed;
+    impl Sut for Summed {
+        type Output = ();
+        fn dim(&self) -> usize {
+            3
+        }
+        fn is_valid(&self, _: &[f32]) -> bool {
+            true
+        }
+        fn execute(&self, _: &[f32]) -> Option<Execution<()>> {
+            None
+        }
+        fn shape(&self, test: &[f32]) -> Option<Vec<f32>> {
+            Some(
+                test.iter()
+                    .scan(0.0, |sum, v| {
+                        *sum += v;
+                        Some(*sum)
+                    })
+                    .collect(),
+            )
+        }
+    }
+
+    #[test]
+    fn with_shape_novelty_no_proposal_has_the_shape_of_a_failure() {
+        let rule = crate::NoveltyConfig {
+            distance: 0.4,
+            min_fitness: 0.5,
+        };
+        let cfg = WoganConfig {
+            shape_novelty: rule.clone(),
+            ..WoganConfig::default()
+        };
+        let sampler = Sampler::new(3, SamplerConfig::default());
+        let mut rng = ChaCha20Rng::seed_from_u64(6);
+        let mut model = WoganModel::new(3, &cfg, &mut rng);
+        let mut failure_shapes = Vec::new();
+        for k in 0..30 {
+            let t = sampler.sample(&mut rng);
+            let fitness = if k % 3 == 0 { 0.9 } else { 0.1 };
+            if fitness >= rule.min_fitness {
+                failure_shapes.push(Summed.shape(&t).unwrap());
+            }
+            model.add_executed(&Summed, &t, fitness);
+        }
+        model.train(0.0, &mut rng).unwrap();
+        let rms = |a: &[f32], b: &[f32]| {
+            let sum: f32 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
+            (sum / a.len() as f32).sqrt()
+        };
+        let mut ranked = 0;
+        for _ in 0..20 {
+            let p = model.propose(&Summed, &sampler, &mut rng).unwrap();
+            if p.predicted.is_some() {
+                ranked += 1;
+                let shape = Summed.shape(&p.test).unwrap();
+                let nearest = failure_shapes
+                    .iter()
+                    .map(|a| rms(a, &shape))
+                    .fold(f32::MAX, f32::min);
+                assert!(nearest >= rule.distance, "{nearest} from {:?}", p.test);
+            }
+        }
+        assert!(ranked > 0, "every proposal fell back to random search");
     }
 }
