@@ -150,20 +150,21 @@ fn mutants_join_the_candidates_when_asked_for() {
 }
 
 #[test]
-fn the_sbst_preset_sets_its_roads_novelty_and_mutants_and_options_still_win() {
+fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_still_win() {
     let (code, records) = run(&["--max-tests", "12", "--seed", "3", "--preset", "sbst"]);
     assert_eq!(code, Some(0));
     let config = &records[0]["config"];
     assert_eq!(config["preset"], "sbst");
-    assert_eq!(config["curvature_points"], 8);
+    assert_eq!(config["curvature_points"], 10);
+    assert_eq!(config["road"]["placement"], "fitted");
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.1);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.25);
     let tests = of_type(&records, "test");
     assert_eq!(tests.len(), 12);
-    // Nine road points: eight curvature values.
+    // Eleven road points: ten curvature values.
     assert!(tests
         .iter()
-        .all(|t| t["road_points"].as_array().unwrap().len() == 9));
+        .all(|t| t["road_points"].as_array().unwrap().len() == 11));
     let (code, records) = run(&[
         "--max-tests",
         "3",
@@ -178,6 +179,21 @@ fn the_sbst_preset_sets_its_roads_novelty_and_mutants_and_options_still_win() {
     let config = &records[0]["config"];
     assert_eq!(config["curvature_points"], 6);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.0);
+    // The competition's DAVE-2 setup: the paper's roads, a closer novelty, the same mutants.
+    let (code, records) = run(&[
+        "--max-tests",
+        "3",
+        "--oracle",
+        "dave2-proxy",
+        "--preset",
+        "sbst",
+    ]);
+    assert_eq!(code, Some(0));
+    let config = &records[0]["config"];
+    assert_eq!(config["curvature_points"], 5);
+    assert_eq!(config["road"]["placement"], "bottom-centre");
+    assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.05);
+    assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.25);
     // The paper's WOGAN has neither.
     let (_, records) = run(&["--max-tests", "3"]);
     let config = &records[0]["config"];

@@ -72,7 +72,7 @@ pub struct RunArgs {
     pub preset: Option<SearchPreset>,
     /// Where roads lie on the map: `bottom-centre` (starting there heading north, the paper's) or
     /// `fitted` (a road that leaves the map from there is turned and moved until it fits, as the
-    /// Frenetic generators place theirs) [default: bottom-centre].
+    /// Frenetic generators place theirs) [default: bottom-centre, or the preset's].
     #[arg(long, value_enum)]
     pub road_placement: Option<PlacementArg>,
     /// Distance between road points, metres.
@@ -309,7 +309,7 @@ impl RunPlan {
         let mut search_defaults = RunConfig::default();
         search_defaults.wogan.target_decay = default_target_decay(fitness, &sim);
         if let Some(preset) = args.preset {
-            preset.apply(&mut search_defaults);
+            preset.apply(&mut search_defaults, kind);
         }
         let mut search = RunConfig {
             algorithm: match args.algorithm {
@@ -390,7 +390,7 @@ impl RunPlan {
             }
             None => (
                 args.curvature_points
-                    .or(args.preset.map(SearchPreset::curvature_points))
+                    .or(args.preset.map(|p| p.curvature_points(kind)))
                     .unwrap_or(DEFAULT_CURVATURE_POINTS),
                 CurvatureRoad {
                     map_size_m: args.driver.map_size,
@@ -398,6 +398,7 @@ impl RunPlan {
                     placement: args
                         .road_placement
                         .map(RoadPlacement::from)
+                        .or(args.preset.map(|p| p.road_placement(kind)))
                         .unwrap_or_default(),
                 },
             ),

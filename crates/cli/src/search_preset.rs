@@ -4,43 +4,102 @@
 //! The defaults stay the paper's WOGAN, so that parity with the authors' implementation holds;
 //! a preset is a measured choice for a purpose, and its figures are in docs/results.md.
 
+use road_sim::{DriverKind, RoadPlacement};
 use wogan_core::{NoveltyConfig, RunConfig};
 
 /// A named set of search settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SearchPreset {
-    /// Many distinct failures under the SBST competition's rules: longer roads (8 curvature
-    /// values, 120 m), no candidate near a test executed before, and a quarter of the candidates
-    /// mutants of the best tests (docs/results.md, "The SBST 2022 field").
+    /// Many distinct failures under the SBST competition's rules: no candidate near a test
+    /// executed before, a quarter of the candidates mutants of the best tests, and in the
+    /// competition's BeamNG.AI setup roads of 10 curvature values (150 m) fitted to the map, in
+    /// its DAVE-2 setup the paper's roads with a closer novelty distance (docs/results.md, "The
+    /// SBST 2022 field").
     Sbst,
 }
 
-/// Curvature values per road of the `sbst` preset.
-const SBST_CURVATURE_POINTS: u32 = 8;
-/// The `sbst` preset's novelty distance (root mean square, normalised units).
-const SBST_NOVELTY_DISTANCE: f32 = 0.1;
-/// The `sbst` preset's share of mutants among the candidates.
+/// The SBST competition's two setups, for which the `sbst` preset was measured apart: BeamNG.AI
+/// (tolerance 0.85, 70 km/h: `beamng-ai-proxy` and controllers) and DAVE-2 (tolerance 0.1,
+/// 25 km/h: `dave2-proxy` and ONNX camera networks).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum CompetitionSetup {
+    BeamNgAi,
+    Dave2,
+}
+
+impl CompetitionSetup {
+    /// The setup whose defaults `driver` takes.
+    fn of(driver: DriverKind) -> Self {
+        match driver {
+            DriverKind::BeamNgAiProxy | DriverKind::Controller => Self::BeamNgAi,
+            DriverKind::Dave2Proxy | DriverKind::Onnx => Self::Dave2,
+        }
+    }
+}
+
+/// What the `sbst` preset sets in one setup.
+struct SbstSettings {
+    /// Curvature values per road.
+    curvature_points: u32,
+    /// Where roads lie on the map.
+    placement: RoadPlacement,
+    /// Novelty distance over every executed test (root mean square, normalised units).
+    novelty_distance: f32,
+}
+
+/// The `sbst` preset's share of mutants among the candidates, in both setups.
 const SBST_MUTATION_SHARE: f64 = 0.25;
 
+impl SbstSettings {
+    /// The settings chosen for `setup` (docs/experiments/2026-11-25-sbst-field.md and
+    /// 2026-11-25-sbst-diversity.md).
+    fn of(setup: CompetitionSetup) -> Self {
+        match setup {
+            // Longer roads give a failure several bends before the exit to differ in; fitted to
+            // the map, the roads that swing far are kept, and the failures differ more as wholes.
+            CompetitionSetup::BeamNgAi => Self {
+                curvature_points: 10,
+                placement: RoadPlacement::Fitted,
+                novelty_distance: 0.1,
+            },
+            // A driver at 25 km/h spends a third of the tests on 120 m roads, and fails in fewer
+            // ways: the paper's road length keeps the tests, a closer novelty keeps the count.
+            CompetitionSetup::Dave2 => Self {
+                curvature_points: 5,
+                placement: RoadPlacement::BottomCentre,
+                novelty_distance: 0.05,
+            },
+        }
+    }
+}
+
 impl SearchPreset {
-    /// Curvature values per road, unless `--curvature-points` says otherwise.
-    pub fn curvature_points(self) -> u32 {
+    /// Curvature values per road for `driver`, unless `--curvature-points` says otherwise.
+    pub fn curvature_points(self, driver: DriverKind) -> u32 {
         match self {
-            Self::Sbst => SBST_CURVATURE_POINTS,
+            Self::Sbst => SbstSettings::of(CompetitionSetup::of(driver)).curvature_points,
         }
     }
 
-    /// Lays the preset's search settings over `search` (the paper's, before the config file and
-    /// the options are applied).
-    pub fn apply(self, search: &mut RunConfig) {
+    /// Where roads lie on the map for `driver`, unless `--road-placement` says otherwise.
+    pub fn road_placement(self, driver: DriverKind) -> RoadPlacement {
+        match self {
+            Self::Sbst => SbstSettings::of(CompetitionSetup::of(driver)).placement,
+        }
+    }
+
+    /// Lays the preset's search settings for `driver` over `search` (the paper's, before the
+    /// config file and the options are applied).
+    pub fn apply(self, search: &mut RunConfig, driver: DriverKind) {
         match self {
             Self::Sbst => {
+                let settings = SbstSettings::of(CompetitionSetup::of(driver));
                 // Every executed test keeps candidates away, not only the failures: near-copies of
                 // a road that nearly failed are spent budget too, and keeping away from failures
                 // only cost more failing roads than it gained distinct ones (docs/experiments).
                 search.wogan.novelty = NoveltyConfig {
-                    distance: SBST_NOVELTY_DISTANCE,
+                    distance: settings.novelty_distance,
                     min_fitness: 0.0,
                 };
                 // The novelty rule costs failing roads; mutants of the best tests win them back
@@ -56,15 +115,23 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_sbst_preset_changes_only_the_road_length_the_novelty_and_the_mutants() {
-        let mut search = RunConfig::default();
-        SearchPreset::Sbst.apply(&mut search);
+    fn the_sbst_preset_changes_only_the_roads_the_novelty_and_the_mutants() {
         let paper = RunConfig::default();
-        assert_eq!(search.wogan.novelty.distance, SBST_NOVELTY_DISTANCE);
-        assert_eq!(search.wogan.mutation.share, SBST_MUTATION_SHARE);
-        search.wogan.novelty = paper.wogan.novelty.clone();
-        search.wogan.mutation.share = paper.wogan.mutation.share;
-        assert_eq!(search, paper);
-        assert_eq!(SearchPreset::Sbst.curvature_points(), 8);
+        for (driver, points, placement, distance) in [
+            (DriverKind::BeamNgAiProxy, 10, RoadPlacement::Fitted, 0.1),
+            (DriverKind::Controller, 10, RoadPlacement::Fitted, 0.1),
+            (DriverKind::Dave2Proxy, 5, RoadPlacement::BottomCentre, 0.05),
+            (DriverKind::Onnx, 5, RoadPlacement::BottomCentre, 0.05),
+        ] {
+            let mut search = RunConfig::default();
+            SearchPreset::Sbst.apply(&mut search, driver);
+            assert_eq!(search.wogan.novelty.distance, distance, "{driver}");
+            assert_eq!(search.wogan.mutation.share, SBST_MUTATION_SHARE);
+            search.wogan.novelty = paper.wogan.novelty.clone();
+            search.wogan.mutation.share = paper.wogan.mutation.share;
+            assert_eq!(search, paper);
+            assert_eq!(SearchPreset::Sbst.curvature_points(driver), points);
+            assert_eq!(SearchPreset::Sbst.road_placement(driver), placement);
+        }
     }
 }
