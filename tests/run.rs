@@ -155,16 +155,17 @@ fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_stil
     assert_eq!(code, Some(0));
     let config = &records[0]["config"];
     assert_eq!(config["preset"], "sbst");
-    assert_eq!(config["curvature_points"], 10);
+    assert_eq!(config["curvature_points"], 16);
+    assert_eq!(config["road"]["step_m"], 10.0);
     assert_eq!(config["road"]["placement"], "fitted");
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.1);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.25);
     let tests = of_type(&records, "test");
     assert_eq!(tests.len(), 12);
-    // Eleven road points: ten curvature values.
+    // Seventeen road points: sixteen curvature values.
     assert!(tests
         .iter()
-        .all(|t| t["road_points"].as_array().unwrap().len() == 11));
+        .all(|t| t["road_points"].as_array().unwrap().len() == 17));
     let (code, records) = run(&[
         "--max-tests",
         "3",
@@ -191,6 +192,7 @@ fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_stil
     assert_eq!(code, Some(0));
     let config = &records[0]["config"];
     assert_eq!(config["curvature_points"], 5);
+    assert_eq!(config["road"]["step_m"], 15.0);
     assert_eq!(config["road"]["placement"], "bottom-centre");
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.05);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.25);

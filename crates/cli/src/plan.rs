@@ -75,9 +75,9 @@ pub struct RunArgs {
     /// Frenetic generators place theirs) [default: bottom-centre, or the preset's].
     #[arg(long, value_enum)]
     pub road_placement: Option<PlacementArg>,
-    /// Distance between road points, metres.
-    #[arg(long, default_value_t = DEFAULT_STEP_LENGTH_M, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
-    pub step_length: f64,
+    /// Distance between road points, metres [default: 15, the paper's, or the preset's].
+    #[arg(long, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
+    pub step_length: Option<f64>,
     /// Share of the budget spent on the initial random search [default: 0.2].
     #[arg(long, value_parser = fraction, allow_negative_numbers = true)]
     pub init_fraction: Option<f64>,
@@ -362,7 +362,7 @@ impl RunPlan {
             Some(saved) => {
                 let typed = (
                     args.curvature_points.unwrap_or(DEFAULT_CURVATURE_POINTS),
-                    args.step_length,
+                    args.step_length.unwrap_or(DEFAULT_STEP_LENGTH_M),
                     args.driver.map_size,
                 );
                 let file = (
@@ -394,7 +394,10 @@ impl RunPlan {
                     .unwrap_or(DEFAULT_CURVATURE_POINTS),
                 CurvatureRoad {
                     map_size_m: args.driver.map_size,
-                    step_m: args.step_length,
+                    step_m: args
+                        .step_length
+                        .or(args.preset.map(|p| p.step_length_m(kind)))
+                        .unwrap_or(DEFAULT_STEP_LENGTH_M),
                     placement: args
                         .road_placement
                         .map(RoadPlacement::from)

@@ -4,6 +4,7 @@
 //! The defaults stay the paper's WOGAN, so that parity with the authors' implementation holds;
 //! a preset is a measured choice for a purpose, and its figures are in docs/results.md.
 
+use road_sim::road::curvature::DEFAULT_STEP_M;
 use road_sim::{DriverKind, RoadPlacement};
 use wogan_core::{NoveltyConfig, RunConfig};
 
@@ -13,8 +14,8 @@ use wogan_core::{NoveltyConfig, RunConfig};
 pub enum SearchPreset {
     /// Many distinct failures under the SBST competition's rules: no candidate near a test
     /// executed before, a quarter of the candidates mutants of the best tests, and in the
-    /// competition's BeamNG.AI setup roads of 10 curvature values (150 m) fitted to the map, in
-    /// its DAVE-2 setup the paper's roads with a closer novelty distance (docs/results.md, "The
+    /// competition's BeamNG.AI setup roads of 16 curvature values 10 m apart fitted to the map,
+    /// in its DAVE-2 setup the paper's roads with a closer novelty distance (docs/results.md, "The
     /// SBST 2022 field").
     Sbst,
 }
@@ -42,6 +43,8 @@ impl CompetitionSetup {
 struct SbstSettings {
     /// Curvature values per road.
     curvature_points: u32,
+    /// Distance between road points, metres.
+    step_m: f64,
     /// Where roads lie on the map.
     placement: RoadPlacement,
     /// Novelty distance over every executed test (root mean square, normalised units).
@@ -56,10 +59,12 @@ impl SbstSettings {
     /// 2026-11-25-sbst-diversity.md).
     fn of(setup: CompetitionSetup) -> Self {
         match setup {
-            // Longer roads give a failure several bends before the exit to differ in; fitted to
-            // the map, the roads that swing far are kept, and the failures differ more as wholes.
+            // Longer roads give a failure several bends before the exit to differ in, shorter
+            // steps more ways to bend into it (the Frenetic tools' 10 m); fitted to the map, the
+            // roads that swing far are kept, and the failures differ more as wholes.
             CompetitionSetup::BeamNgAi => Self {
-                curvature_points: 10,
+                curvature_points: 16,
+                step_m: 10.0,
                 placement: RoadPlacement::Fitted,
                 novelty_distance: 0.1,
             },
@@ -67,6 +72,7 @@ impl SbstSettings {
             // ways: the paper's road length keeps the tests, a closer novelty keeps the count.
             CompetitionSetup::Dave2 => Self {
                 curvature_points: 5,
+                step_m: DEFAULT_STEP_M,
                 placement: RoadPlacement::BottomCentre,
                 novelty_distance: 0.05,
             },
@@ -79,6 +85,13 @@ impl SearchPreset {
     pub fn curvature_points(self, driver: DriverKind) -> u32 {
         match self {
             Self::Sbst => SbstSettings::of(CompetitionSetup::of(driver)).curvature_points,
+        }
+    }
+
+    /// Distance between road points for `driver`, metres, unless `--step-length` says otherwise.
+    pub fn step_length_m(self, driver: DriverKind) -> f64 {
+        match self {
+            Self::Sbst => SbstSettings::of(CompetitionSetup::of(driver)).step_m,
         }
     }
 
@@ -117,11 +130,23 @@ mod tests {
     #[test]
     fn the_sbst_preset_changes_only_the_roads_the_novelty_and_the_mutants() {
         let paper = RunConfig::default();
-        for (driver, points, placement, distance) in [
-            (DriverKind::BeamNgAiProxy, 10, RoadPlacement::Fitted, 0.1),
-            (DriverKind::Controller, 10, RoadPlacement::Fitted, 0.1),
-            (DriverKind::Dave2Proxy, 5, RoadPlacement::BottomCentre, 0.05),
-            (DriverKind::Onnx, 5, RoadPlacement::BottomCentre, 0.05),
+        for (driver, points, step_m, placement, distance) in [
+            (
+                DriverKind::BeamNgAiProxy,
+                16,
+                10.0,
+                RoadPlacement::Fitted,
+                0.1,
+            ),
+            (DriverKind::Controller, 16, 10.0, RoadPlacement::Fitted, 0.1),
+            (
+                DriverKind::Dave2Proxy,
+                5,
+                15.0,
+                RoadPlacement::BottomCentre,
+                0.05,
+            ),
+            (DriverKind::Onnx, 5, 15.0, RoadPlacement::BottomCentre, 0.05),
         ] {
             let mut search = RunConfig::default();
             SearchPreset::Sbst.apply(&mut search, driver);
@@ -132,6 +157,7 @@ mod tests {
             assert_eq!(search, paper);
             assert_eq!(SearchPreset::Sbst.curvature_points(driver), points);
             assert_eq!(SearchPreset::Sbst.road_placement(driver), placement);
+            assert_eq!(SearchPreset::Sbst.step_length_m(driver), step_m);
         }
     }
 }
