@@ -68,8 +68,9 @@ impl SbstSettings {
                 placement: RoadPlacement::Fitted,
                 novelty_distance: 0.1,
             },
-            // A driver at 25 km/h spends a third of the tests on 120 m roads, and fails in fewer
-            // ways: the paper's road length keeps the tests, a closer novelty keeps the count.
+            // At 25 km/h a long road costs nearly three times the simulated seconds it costs at
+            // 70 km/h, and the driver fails in fewer ways: the paper's road length keeps the
+            // tests in the budget, a closer novelty keeps the failures.
             CompetitionSetup::Dave2 => Self {
                 curvature_points: 5,
                 step_m: DEFAULT_STEP_M,
