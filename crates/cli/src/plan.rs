@@ -12,7 +12,7 @@ use crate::generator_file::{self, GeneratorPayload};
 use crate::output_file::same_file;
 use crate::records::{Header, VERSION};
 use crate::search_preset::SearchPreset;
-use crate::value_parsers::{budget_duration, fitness_kind, fraction, share};
+use crate::value_parsers::{budget_duration, fitness_kind, fraction, road_placement, share};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::{CurvatureRoad, DriverConfig, DriverKind, FitnessKind, RoadPlacement, SimConfig};
@@ -73,8 +73,8 @@ pub struct RunArgs {
     /// Where roads lie on the map: `bottom-centre` (starting there heading north, the paper's) or
     /// `fitted` (a road that leaves the map from there is turned and moved until it fits, as the
     /// Frenetic generators place theirs) [default: bottom-centre, or the preset's].
-    #[arg(long, value_enum)]
-    pub road_placement: Option<PlacementArg>,
+    #[arg(long, value_parser = road_placement)]
+    pub road_placement: Option<RoadPlacement>,
     /// Distance between road points, metres [default: 15, the paper's, or the preset's].
     #[arg(long, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
     pub step_length: Option<f64>,
@@ -160,24 +160,6 @@ pub enum AlgorithmArg {
     Wogan,
     /// Random search with the paper's sampler for the whole budget.
     Random,
-}
-
-/// `--road-placement` values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum PlacementArg {
-    /// From the bottom centre of the map heading north (the paper's).
-    BottomCentre,
-    /// Turned and moved to fit the map when a road leaves it from the bottom centre.
-    Fitted,
-}
-
-impl From<PlacementArg> for RoadPlacement {
-    fn from(arg: PlacementArg) -> Self {
-        match arg {
-            PlacementArg::BottomCentre => Self::BottomCentre,
-            PlacementArg::Fitted => Self::Fitted,
-        }
-    }
 }
 
 /// The slowest acceptance decay a matched default may have: about 5x the paper's candidates per
@@ -388,23 +370,25 @@ impl RunPlan {
                 search.wogan = saved.model.config.clone();
                 (saved.curvature_points as u32, saved.road)
             }
-            None => (
-                args.curvature_points
-                    .or(args.preset.map(|p| p.curvature_points(kind)))
-                    .unwrap_or(DEFAULT_CURVATURE_POINTS),
-                CurvatureRoad {
-                    map_size_m: args.driver.map_size,
-                    step_m: args
-                        .step_length
-                        .or(args.preset.map(|p| p.step_length_m(kind)))
-                        .unwrap_or(DEFAULT_STEP_LENGTH_M),
-                    placement: args
-                        .road_placement
-                        .map(RoadPlacement::from)
-                        .or(args.preset.map(|p| p.road_placement(kind)))
-                        .unwrap_or_default(),
-                },
-            ),
+            None => {
+                let preset = args.preset.map(|p| p.roads(kind));
+                (
+                    args.curvature_points
+                        .or(preset.map(|r| r.curvature_points))
+                        .unwrap_or(DEFAULT_CURVATURE_POINTS),
+                    CurvatureRoad {
+                        map_size_m: args.driver.map_size,
+                        step_m: args
+                            .step_length
+                            .or(preset.map(|r| r.step_m))
+                            .unwrap_or(DEFAULT_STEP_LENGTH_M),
+                        placement: args
+                            .road_placement
+                            .or(preset.map(|r| r.placement))
+                            .unwrap_or_default(),
+                    },
+                )
+            }
         };
         let budget = Budget {
             max_tests: args.max_tests.map(|n| n as usize),

@@ -39,14 +39,21 @@ impl CompetitionSetup {
     }
 }
 
+/// The roads a preset makes, each setting unless its option says otherwise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PresetRoads {
+    /// Curvature values per road (`--curvature-points`).
+    pub curvature_points: u32,
+    /// Distance between road points, metres (`--step-length`).
+    pub step_m: f64,
+    /// Where roads lie on the map (`--road-placement`).
+    pub placement: RoadPlacement,
+}
+
 /// What the `sbst` preset sets in one setup.
 struct SbstSettings {
-    /// Curvature values per road.
-    curvature_points: u32,
-    /// Distance between road points, metres.
-    step_m: f64,
-    /// Where roads lie on the map.
-    placement: RoadPlacement,
+    /// The roads.
+    roads: PresetRoads,
     /// Novelty distance over every executed test (root mean square, normalised units).
     novelty_distance: f32,
 }
@@ -63,18 +70,22 @@ impl SbstSettings {
             // steps more ways to bend into it (the Frenetic tools' 10 m); fitted to the map, the
             // roads that swing far are kept, and the failures differ more as wholes.
             CompetitionSetup::BeamNgAi => Self {
-                curvature_points: 16,
-                step_m: 10.0,
-                placement: RoadPlacement::Fitted,
+                roads: PresetRoads {
+                    curvature_points: 16,
+                    step_m: 10.0,
+                    placement: RoadPlacement::Fitted,
+                },
                 novelty_distance: 0.1,
             },
             // At 25 km/h a long road costs nearly three times the simulated seconds it costs at
             // 70 km/h, and the driver fails in fewer ways: the paper's road length keeps the
             // tests in the budget, a closer novelty keeps the failures.
             CompetitionSetup::Dave2 => Self {
-                curvature_points: 5,
-                step_m: DEFAULT_STEP_M,
-                placement: RoadPlacement::BottomCentre,
+                roads: PresetRoads {
+                    curvature_points: 5,
+                    step_m: DEFAULT_STEP_M,
+                    placement: RoadPlacement::BottomCentre,
+                },
                 novelty_distance: 0.05,
             },
         }
@@ -82,24 +93,10 @@ impl SbstSettings {
 }
 
 impl SearchPreset {
-    /// Curvature values per road for `driver`, unless `--curvature-points` says otherwise.
-    pub fn curvature_points(self, driver: DriverKind) -> u32 {
+    /// The roads the preset makes for `driver`.
+    pub fn roads(self, driver: DriverKind) -> PresetRoads {
         match self {
-            Self::Sbst => SbstSettings::of(CompetitionSetup::of(driver)).curvature_points,
-        }
-    }
-
-    /// Distance between road points for `driver`, metres, unless `--step-length` says otherwise.
-    pub fn step_length_m(self, driver: DriverKind) -> f64 {
-        match self {
-            Self::Sbst => SbstSettings::of(CompetitionSetup::of(driver)).step_m,
-        }
-    }
-
-    /// Where roads lie on the map for `driver`, unless `--road-placement` says otherwise.
-    pub fn road_placement(self, driver: DriverKind) -> RoadPlacement {
-        match self {
-            Self::Sbst => SbstSettings::of(CompetitionSetup::of(driver)).placement,
+            Self::Sbst => SbstSettings::of(CompetitionSetup::of(driver)).roads,
         }
     }
 
@@ -156,9 +153,10 @@ mod tests {
             search.wogan.novelty = paper.wogan.novelty.clone();
             search.wogan.mutation.share = paper.wogan.mutation.share;
             assert_eq!(search, paper);
-            assert_eq!(SearchPreset::Sbst.curvature_points(driver), points);
-            assert_eq!(SearchPreset::Sbst.road_placement(driver), placement);
-            assert_eq!(SearchPreset::Sbst.step_length_m(driver), step_m);
+            let roads = SearchPreset::Sbst.roads(driver);
+            assert_eq!(roads.curvature_points, points);
+            assert_eq!(roads.placement, placement);
+            assert_eq!(roads.step_m, step_m);
         }
     }
 }

@@ -138,6 +138,17 @@ pub fn fitness_kind(name: &str) -> Result<FitnessKind, String> {
     })
 }
 
+/// Where roads lie on the map: `bottom-centre` or `fitted`.
+pub fn road_placement(name: &str) -> Result<road_sim::RoadPlacement, String> {
+    match name {
+        "bottom-centre" => Ok(road_sim::RoadPlacement::BottomCentre),
+        "fitted" => Ok(road_sim::RoadPlacement::Fitted),
+        other => Err(format!(
+            "unknown road placement {other:?}; known: bottom-centre, fitted"
+        )),
+    }
+}
+
 /// How WOGAN's acceptance target carries over within a round of tests chosen at once:
 /// `restart` or `continue`.
 pub fn round_acceptance(name: &str) -> Result<wogan_core::RoundAcceptance, String> {
