@@ -213,6 +213,11 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
             if let Some(fitness) = setting(&format!("{rule}/min_fitness")).filter(|&f| f > 0.0) {
                 text.push_str(&format!(" from fitness {fitness}"));
             }
+            if let Some(allowed) =
+                setting(&format!("{rule}/allowed_neighbours")).filter(|&n| n > 0.0)
+            {
+                text.push_str(&format!(" allowing {allowed}"));
+            }
         }
     }
     // Rounds of several tests change which tests are chosen (one job is the paper's loop).
@@ -410,6 +415,13 @@ mod tests {
         assert_eq!(
             shapes.acceptance,
             "decay 0.95, novelty 0.1, shape novelty 0.5 from fitness 0.85"
+        );
+        let crowded = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0},"search":{"wogan":{"target_decay":0.95,"shape_novelty":{"distance":0.5,"min_fitness":0.85,"allowed_neighbours":4}}}}"#,
+        );
+        assert_eq!(
+            crowded.acceptance,
+            "decay 0.95, shape novelty 0.5 from fitness 0.85 allowing 4"
         );
         let fitted = key_of(
             r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"search":{"wogan":{"target_decay":0.95}}}"#,

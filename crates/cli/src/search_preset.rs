@@ -111,7 +111,7 @@ impl SearchPreset {
                 // only cost more failing roads than it gained distinct ones (docs/experiments).
                 search.wogan.novelty = NoveltyConfig {
                     distance: settings.novelty_distance,
-                    min_fitness: 0.0,
+                    ..NoveltyConfig::default()
                 };
                 // The novelty rule costs failing roads; mutants of the best tests win them back
                 // (and more) while the rule keeps the mutants from repeating those tests.

@@ -323,6 +323,9 @@ pub struct NoveltyConfig {
     /// Only tests of at least this fitness keep candidates away (0: every test; a failure's
     /// fitness: only failures).
     pub min_fitness: f64,
+    /// How many such tests may lie nearer than `distance` before a candidate is skipped (0: any
+    /// one does; more: a neighbourhood fills up to this many before the search must leave it).
+    pub allowed_neighbours: usize,
 }
 
 impl Default for NoveltyConfig {
@@ -330,6 +333,7 @@ impl Default for NoveltyConfig {
         Self {
             distance: 0.0,
             min_fitness: 0.0,
+            allowed_neighbours: 0,
         }
     }
 }

@@ -94,9 +94,11 @@
 //!
 //! With [`NoveltyConfig::distance`] above 0, a candidate is ranked only when it lies at least that
 //! far (root mean square over the values, normalised units) from every test executed so far, or
-//! from every one of at least [`NoveltyConfig::min_fitness`]. Skipped candidates count towards
-//! the invalid streak, not as invalid. WOGAN otherwise spends much of a budget re-finding its
-//! first failures; the default, 0, is the paper's WOGAN.
+//! from every one of at least [`NoveltyConfig::min_fitness`]; with
+//! [`NoveltyConfig::allowed_neighbours`] above 0, only when more than that many lie nearer (a
+//! neighbourhood holds that many before the search must leave it). Skipped candidates count
+//! towards the invalid streak, not as invalid. WOGAN otherwise spends much of a budget re-finding
+//! its first failures; the default, 0, is the paper's WOGAN.
 //!
 //! [`WoganConfig::shape_novelty`] is the same rule over what a test does rather than its values:
 //! a candidate is compared by [`Sut::shape`] (for a road, its heading profile) with the shapes of

@@ -152,15 +152,22 @@ impl WoganModel {
 
     /// Whether candidate `c` is far enough from the executed tests by both novelty rules.
     fn is_novel_candidate<S: Sut + ?Sized>(&self, sut: &S, c: &[f32], anchors: &[f32]) -> bool {
-        if !is_novel(c, anchors, self.cfg.novelty.distance) {
+        let rule = &self.cfg.novelty;
+        if !is_novel(c, anchors, rule.distance, rule.allowed_neighbours) {
             return false;
         }
-        let shape_distance = self.cfg.shape_novelty.distance;
-        if shape_distance <= 0.0 || self.shape_anchors.is_empty() {
+        let rule = &self.cfg.shape_novelty;
+        if rule.distance <= 0.0 || self.shape_anchors.is_empty() {
             return true;
         }
-        sut.shape(c)
-            .is_none_or(|shape| is_novel(&shape, &self.shape_anchors, shape_distance))
+        sut.shape(c).is_none_or(|shape| {
+            is_novel(
+                &shape,
+                &self.shape_anchors,
+                rule.distance,
+                rule.allowed_neighbours,
+            )
+        })
     }
 
     /// Trains the analyzer on a second thread, alongside the WGAN, from the next training round
@@ -571,6 +578,7 @@ mod tests {
         let novelty = crate::NoveltyConfig {
             distance: 0.3,
             min_fitness: 0.5,
+            ..crate::NoveltyConfig::default()
         };
         let cfg = WoganConfig {
             novelty: novelty.clone(),
@@ -639,6 +647,7 @@ mod tests {
         let rule = crate::NoveltyConfig {
             distance: 0.4,
             min_fitness: 0.5,
+            ..crate::NoveltyConfig::default()
         };
         let cfg = WoganConfig {
             shape_novelty: rule.clone(),

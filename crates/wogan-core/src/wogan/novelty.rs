@@ -9,23 +9,33 @@
 //! skipped this way counts towards the streak after which a random valid test is executed, so a
 //! generator that only produces explored roads falls back to random search, as with invalid ones.
 
-/// Whether `candidate` lies at least `min_rms_distance` (root mean square of the value
-/// differences, normalised units) from each of `tests` (flattened, `candidate.len()` values
-/// each). Always true for a distance of 0.
-pub(crate) fn is_novel(candidate: &[f32], tests: &[f32], min_rms_distance: f32) -> bool {
+/// Whether at most `allowed_neighbours` of `tests` (flattened, `candidate.len()` values each) lie
+/// nearer to `candidate` than `min_rms_distance` (root mean square of the value differences,
+/// normalised units). Always true for a distance of 0.
+pub(crate) fn is_novel(
+    candidate: &[f32],
+    tests: &[f32],
+    min_rms_distance: f32,
+    allowed_neighbours: usize,
+) -> bool {
     if min_rms_distance <= 0.0 || candidate.is_empty() {
         return true;
     }
     // Compare squared sums, not roots: one multiplication per test instead of a square root.
     let limit = min_rms_distance * min_rms_distance * candidate.len() as f32;
-    tests.chunks_exact(candidate.len()).all(|test| {
+    let neighbours = tests.chunks_exact(candidate.len()).filter(|test| {
         let squared: f32 = test
             .iter()
             .zip(candidate)
             .map(|(t, c)| (t - c) * (t - c))
             .sum();
-        squared >= limit
-    })
+        squared < limit
+    });
+    // The iterator is lazy: counting stops at the first neighbour past the allowance.
+    neighbours
+        .take(allowed_neighbours.saturating_add(1))
+        .count()
+        <= allowed_neighbours
 }
 
 #[cfg(test)]
@@ -36,13 +46,25 @@ mod tests {
     fn a_candidate_is_novel_only_far_enough_from_every_test() {
         let tests = [0.0, 0.0, 1.0, 1.0];
         // RMS distance to (0, 0) of (0.3, 0.4): sqrt((0.09 + 0.16) / 2) = 0.354.
-        assert!(is_novel(&[0.3, 0.4], &tests, 0.35));
-        assert!(!is_novel(&[0.3, 0.4], &tests, 0.36));
+        assert!(is_novel(&[0.3, 0.4], &tests, 0.35, 0));
+        assert!(!is_novel(&[0.3, 0.4], &tests, 0.36, 0));
         // Near the second test only.
-        assert!(!is_novel(&[0.9, 1.0], &tests, 0.2));
-        assert!(is_novel(&[0.5, 0.5], &tests, 0.2));
+        assert!(!is_novel(&[0.9, 1.0], &tests, 0.2, 0));
+        assert!(is_novel(&[0.5, 0.5], &tests, 0.2, 0));
         // Off, and with no tests yet: always novel.
-        assert!(is_novel(&[0.0, 0.0], &tests, 0.0));
-        assert!(is_novel(&[0.0, 0.0], &[], 0.5));
+        assert!(is_novel(&[0.0, 0.0], &tests, 0.0, 0));
+        assert!(is_novel(&[0.0, 0.0], &[], 0.5, 0));
+    }
+
+    #[test]
+    fn a_candidate_may_have_as_many_neighbours_as_allowed() {
+        // Three tests near (0, 0), one far.
+        let tests = [0.0, 0.0, 0.1, 0.0, 0.0, 0.1, 1.0, 1.0];
+        assert!(!is_novel(&[0.0, 0.0], &tests, 0.5, 0));
+        assert!(!is_novel(&[0.0, 0.0], &tests, 0.5, 2));
+        assert!(is_novel(&[0.0, 0.0], &tests, 0.5, 3));
+        // Near the far test only: one neighbour.
+        assert!(!is_novel(&[0.9, 0.9], &tests, 0.5, 0));
+        assert!(is_novel(&[0.9, 0.9], &tests, 0.5, 1));
     }
 }
