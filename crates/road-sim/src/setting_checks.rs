@@ -35,7 +35,7 @@ pub fn all_positive(prefix: &str, values: &[(&str, f64)]) -> Result<(), Settings
     each(prefix, values, positive, "positive")
 }
 
-/// `Ok` when every named value is [`non_negative`], else names the first that is not.
+/// `Ok` when every named value is `non_negative`, else names the first that is not.
 pub fn all_non_negative(prefix: &str, values: &[(&str, f64)]) -> Result<(), SettingsError> {
     each(prefix, values, non_negative, "finite and not negative")
 }

@@ -42,7 +42,7 @@ impl<'a> Sampler<'a> {
     }
 
     /// The same sampler, giving up a search for valid tests (with [`Error::Interrupted`]) once
-    /// `go_on` says no; `go_on` is asked every [`CHECKS_BETWEEN_LOOKS`] validity checks.
+    /// `go_on` says no; `go_on` is asked every `CHECKS_BETWEEN_LOOKS` validity checks.
     pub fn interruptible(self, go_on: &'a (dyn Fn() -> bool + Sync)) -> Self {
         Self {
             go_on: Some(go_on),

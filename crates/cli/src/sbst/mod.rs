@@ -1,5 +1,5 @@
 //! The SBST 2022 tool competition's side of the binary, as its pipeline (`se2p/tool-competition-av`)
-//! has it: the files it writes and reads ([`format`]: execution records, test objects), the
+//! has it: the files it writes and reads ([`mod@format`]: execution records, test objects), the
 //! measures it scores a generator by ([`metrics`]: generation totals, effectiveness, efficiency,
 //! the `OOBAnalyzer`'s sides and sparseness) and its result folder ([`result_folder`], written by
 //! `wogan export`, and [`result_run`], one read back as a run for `wogan report`). The validity rules and the OOB analysis themselves are `road_sim::validator`

@@ -17,9 +17,9 @@ pub enum Reason {
     OutsideMap,
     /// The road polygon overlaps itself.
     SelfIntersecting,
-    /// The centre line is not longer than [`MIN_LENGTH_M`].
+    /// The centre line is not longer than [`MIN_LENGTH_M`](super::rules::MIN_LENGTH_M).
     TooShort,
-    /// A turn is tighter than [`MIN_RADIUS_FT`].
+    /// A turn is tighter than [`MIN_RADIUS_FT`](super::rules::MIN_RADIUS_FT).
     TooSharp,
     /// The polyline through the points is longer than [`MAX_ROAD_LENGTH_M`](super::MAX_ROAD_LENGTH_M) (our bound, not the
     /// competition's: on its 200 m map no valid road comes near it).

@@ -64,7 +64,7 @@ pub enum WeightsError {
     /// Not a DAVE-2 weight blob.
     #[error("not a DAVE-2 weight blob (bad magic or version)")]
     BadHeader,
-    /// A value is not finite or larger than [`MAX_ABS_WEIGHT`] in magnitude: not weights any
+    /// A value is not finite or larger than `MAX_ABS_WEIGHT` in magnitude: not weights any
     /// training makes, and a network that would answer with nonsense.
     #[error("DAVE-2 weight {index} is {value}: every weight must be finite and at most 1e4 in magnitude")]
     BadValue {

@@ -277,7 +277,7 @@ impl WoganModel {
         Ok(stats)
     }
 
-    /// Chooses the next test by the [`Acceptance`] rule (stgem's): each valid candidate is
+    /// Chooses the next test by the `Acceptance` rule (stgem's): each valid candidate is
     /// ranked by the analyzer until the best is accepted.
     ///
     /// Candidates are generated and scored `candidate_batch` at a time (one network call for
