@@ -95,7 +95,7 @@ export MISSING=$missing
 
 mkdir -p "$WORK" "$(dirname "$OUT")"
 python3 - <<'PY'
-import datetime, glob, json, os, statistics, subprocess, sys, time
+import datetime, glob, json, os, re, statistics, subprocess, sys, time
 
 WOGAN = os.environ["WOGAN"]
 SEEDS = os.environ["SEEDS"].split()
@@ -357,6 +357,13 @@ def group_means(paths):
     return figures
 
 
+def runs_of(prefix):
+    """Every run file PREFIX.SEED.jsonl there is, in seed order (more seeds than SEEDS where a
+    comparison needed them)."""
+    seeded = [(re.fullmatch(r"\.(\d+)\.jsonl", p[len(prefix):]), p) for p in glob.glob(prefix + ".*.jsonl")]
+    return [p for _, p in sorted((int(m.group(1)), p) for m, p in seeded if m)]
+
+
 def field_section():
     out()
     out("## The SBST 2022 field on our simulator")
@@ -367,11 +374,13 @@ def field_section():
         "1h --execution-budget 2h`: `scripts/sbst_budget_runs.sh`; the preset's runs with "
         "`ALGORITHMS=preset-sbst`). Every figure is `wogan report`'s, computed the same way for "
         "every run: means over runs (their number in brackets). The peers' seeds seed Python's and "
-        "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated.")
+        "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated. A row of "
+        "more than 20 runs had seeds added to settle a comparison "
+        "(docs/experiments/2026-11-25-sbst-diversity.md).")
     for oracle in ORACLES:
         groups = []
         for tag, name in OURS:
-            paths = [p for p in (f"target/sbst/{oracle}.{tag}.{s}.jsonl" for s in SEEDS) if os.path.exists(p)]
+            paths = runs_of(f"target/sbst/{oracle}.{tag}")
             groups.append((name, paths))
         for tool, name in PEERS:
             paths = sorted(glob.glob(f"target/peers/{oracle}.{tool}.*/summary.json"))
