@@ -166,9 +166,13 @@ fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_stil
     assert!(tests
         .iter()
         .all(|t| t["road_points"].as_array().unwrap().len() == 17));
-    let (code, records) = run(&[
-        "--max-tests",
-        "3",
+    // The header's configuration of a short run that succeeds.
+    let config_of = |args: &[&str]| {
+        let (code, records) = run(&[&["--max-tests", "3"], args].concat());
+        assert_eq!(code, Some(0));
+        records[0]["config"].clone()
+    };
+    let config = config_of(&[
         "--preset",
         "sbst",
         "--curvature-points",
@@ -176,21 +180,10 @@ fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_stil
         "--mutation-share",
         "0",
     ]);
-    assert_eq!(code, Some(0));
-    let config = &records[0]["config"];
     assert_eq!(config["curvature_points"], 6);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.0);
     // The competition's DAVE-2 setup: the paper's roads, a closer novelty, the same mutants.
-    let (code, records) = run(&[
-        "--max-tests",
-        "3",
-        "--oracle",
-        "dave2-proxy",
-        "--preset",
-        "sbst",
-    ]);
-    assert_eq!(code, Some(0));
-    let config = &records[0]["config"];
+    let config = config_of(&["--oracle", "dave2-proxy", "--preset", "sbst"]);
     assert_eq!(config["curvature_points"], 5);
     assert_eq!(config["road"]["step_m"], 15.0);
     assert_eq!(config["road"]["placement"], "bottom-centre");

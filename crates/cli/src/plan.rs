@@ -15,6 +15,7 @@ use crate::search_preset::SearchPreset;
 use crate::value_parsers::{budget_duration, fitness_kind, fraction, road_placement, share};
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use road_sim::road::curvature::DEFAULT_STEP_M;
 use road_sim::{CurvatureRoad, DriverConfig, DriverKind, FitnessKind, RoadPlacement, SimConfig};
 use serde::Serialize;
 use std::path::PathBuf;
@@ -141,8 +142,6 @@ fn executor_command(value: &str) -> Result<String, String> {
 
 /// Curvature values per road unless `--curvature-points` says otherwise (the paper's).
 const DEFAULT_CURVATURE_POINTS: u32 = 5;
-/// Distance between road points unless `--step-length` says otherwise, metres (the paper's).
-const DEFAULT_STEP_LENGTH_M: f64 = 15.0;
 
 /// `--fail-on` values of `wogan run`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -344,7 +343,7 @@ impl RunPlan {
             Some(saved) => {
                 let typed = (
                     args.curvature_points.unwrap_or(DEFAULT_CURVATURE_POINTS),
-                    args.step_length.unwrap_or(DEFAULT_STEP_LENGTH_M),
+                    args.step_length.unwrap_or(DEFAULT_STEP_M),
                     args.driver.map_size,
                 );
                 let file = (
@@ -352,11 +351,7 @@ impl RunPlan {
                     saved.road.step_m,
                     saved.road.map_size_m,
                 );
-                let defaults = (
-                    DEFAULT_CURVATURE_POINTS,
-                    DEFAULT_STEP_LENGTH_M,
-                    DEFAULT_MAP_SIZE_M,
-                );
+                let defaults = (DEFAULT_CURVATURE_POINTS, DEFAULT_STEP_M, DEFAULT_MAP_SIZE_M);
                 if typed != file && typed != defaults {
                     bail!(
                         "--generator makes roads of {} curvature points, {} m apart, on a {} m map; \
@@ -381,7 +376,7 @@ impl RunPlan {
                         step_m: args
                             .step_length
                             .or(preset.map(|r| r.step_m))
-                            .unwrap_or(DEFAULT_STEP_LENGTH_M),
+                            .unwrap_or(DEFAULT_STEP_M),
                         placement: args
                             .road_placement
                             .or(preset.map(|r| r.placement))

@@ -138,15 +138,12 @@ pub fn fitness_kind(name: &str) -> Result<FitnessKind, String> {
     })
 }
 
-/// Where roads lie on the map: `bottom-centre` or `fitted`.
+/// Where roads lie on the map, by the name a run file records (`bottom-centre` or `fitted`).
 pub fn road_placement(name: &str) -> Result<road_sim::RoadPlacement, String> {
-    match name {
-        "bottom-centre" => Ok(road_sim::RoadPlacement::BottomCentre),
-        "fitted" => Ok(road_sim::RoadPlacement::Fitted),
-        other => Err(format!(
-            "unknown road placement {other:?}; known: bottom-centre, fitted"
-        )),
-    }
+    use serde::de::{value, Deserialize, IntoDeserializer};
+    // The names are the run file's: serde's, written once on the type.
+    let names: value::StrDeserializer<'_, value::Error> = name.into_deserializer();
+    road_sim::RoadPlacement::deserialize(names).map_err(|e| format!("road placement: {e}"))
 }
 
 /// How WOGAN's acceptance target carries over within a round of tests chosen at once:
@@ -195,5 +192,14 @@ mod tests {
         assert!(oracle("onnx:").unwrap_err().contains("no model file"));
         assert_eq!(fitness_kind("bolp-scaled"), Ok(FitnessKind::BolpScaled));
         assert!(fitness_kind("speed").is_err());
+        assert_eq!(
+            road_placement("fitted"),
+            Ok(road_sim::RoadPlacement::Fitted)
+        );
+        let unknown = road_placement("centre").unwrap_err();
+        assert!(
+            unknown.contains("bottom-centre") && unknown.contains("fitted"),
+            "{unknown}"
+        );
     }
 }

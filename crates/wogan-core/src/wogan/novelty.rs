@@ -1,6 +1,6 @@
 //! A novelty rule for WOGAN's candidates (an extension; off in the paper): a candidate is ranked
 //! only when it lies at least a given distance from every test executed so far (or every one of
-//! at least a given fitness: the failures).
+//! at least a given fitness: the failures), or from all but a given number of them.
 //!
 //! WOGAN learns to generate roads like its best ones, so once it has found a failure it mostly
 //! re-finds it: most of a run's failures are near-copies of a few roads. Skipping candidates
