@@ -364,6 +364,18 @@ def runs_of(prefix):
     return [p for _, p in sorted((int(m.group(1)), p) for m, p in seeded if m)]
 
 
+def compared(a_paths, b_paths, measures):
+    """{measure: "A / B, p P"} of `wogan report A --vs B --table` for each of `measures`."""
+    rows = {}
+    for line in report_table(*a_paths, "--vs", *b_paths):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if cells and cells[0] in measures:
+            a, b = (rounded(c.split(" (")[0]) for c in cells[1:3])
+            p = "< 0.0001" if cells[4] == "0.0000" else cells[4]
+            rows[cells[0]] = f"{a} / {b}, p {p}"
+    return rows
+
+
 def field_section():
     out()
     out("## The SBST 2022 field on our simulator")
@@ -411,14 +423,47 @@ def field_section():
         for name, paths in groups[1:]:
             if not paths:
                 continue
-            rows = {}
-            for line in report_table(*preset, "--vs", *paths):
-                cells = [c.strip() for c in line.strip().strip("|").split("|")]
-                if cells and cells[0] in FIELD_COMPARED:
-                    a, b = (rounded(c.split(" (")[0]) for c in cells[1:3])
-                    p = "< 0.0001" if cells[4] == "0.0000" else cells[4]
-                    rows[cells[0]] = f"{a} / {b}, p {p}"
+            rows = compared(preset, paths, FIELD_COMPARED)
             out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
+
+
+# ---------------------------------------------------------------------------------------------
+# Niches (issue 38): `--preset sbst-niches` against `--preset sbst` and the paper's WOGAN under the
+# competition's budgets (scripts/sbst_budget_runs.sh with ALGORITHMS="preset-sbst-niches ...").
+NICHES_COMPARED = ("failures per run", "distinct failures per run", "diversity",
+                   "sparseness mean over the OOBs it places")
+
+
+def niches_section():
+    out()
+    out("## Niches")
+    out()
+    out("`--preset sbst-niches` (A) against `--preset sbst` and the paper's WOGAN (B) under the "
+        "competition's budgets (`ALGORITHMS=\"preset-sbst-niches preset-sbst wogan\" "
+        "scripts/sbst_budget_runs.sh ORACLE \"$(seq -s ' ' 1 20)\" 1h 2h`): means per run, "
+        "Mann–Whitney U, two-sided, from `wogan report A --vs B --table`. The SBST 2022 tools' "
+        "figures are in the field's section; how the settings were chosen: "
+        "docs/experiments/2026-11-26-niches.md.")
+    for oracle in ORACLES:
+        niches = runs_of(f"target/sbst/{oracle}.preset-sbst-niches")
+        out()
+        out(f"### {oracle}")
+        out()
+        if not niches:
+            out(f"Runs missing: `ALGORITHMS=preset-sbst-niches scripts/sbst_budget_runs.sh {oracle} ...`.")
+            continue
+        out(f"A: {len(niches)} runs of `--preset sbst-niches`.")
+        out()
+        out("| B | " + " | ".join(f"{m}: A / B, p" for m in NICHES_COMPARED) + " |")
+        out("|---|" + "---|" * len(NICHES_COMPARED))
+        for tag, name in OURS[:2]:
+            # The seeds A has, so that both sides are the same searches' luck.
+            paths = [p for p in runs_of(f"target/sbst/{oracle}.{tag}")
+                     if p.rsplit(".", 2)[-2] in {n.rsplit(".", 2)[-2] for n in niches}]
+            if not paths:
+                continue
+            rows = compared(niches, paths, NICHES_COMPARED)
+            out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in NICHES_COMPARED) + " |")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -878,6 +923,7 @@ def sections(bench):
         ("comparisons", comparisons_section),
         ("sbst", sbst_section),
         ("field", field_section),
+        ("niches", niches_section),
         ("generator", generator_section),
         ("ci", ci_section),
         ("plug-points", plug_points_section),

@@ -33,6 +33,15 @@ fn deterministic_part(test: &Value) -> Value {
     test
 }
 
+/// Asserts that `wogan run --config PATH` exits 2 before any output, its message naming `named`.
+fn assert_config_refused(path: &str, named: &str) {
+    let output = wogan(&["run", "--config", path], "");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{path}: {stderr}");
+    assert!(stderr.contains(named), "{path}: {stderr}");
+    assert!(output.stdout.is_empty());
+}
+
 fn check_run(algorithm: &str) {
     let args = [
         "--algorithm",
@@ -189,11 +198,23 @@ fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_stil
     assert_eq!(config["road"]["placement"], "bottom-centre");
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.05);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.25);
+    // With niches: in the DAVE-2 setup on the BeamNG.AI setup's roads, filled by each driver's
+    // failures.
+    for (oracle, level) in [("beamng-ai-proxy", 0.85), ("dave2-proxy", 0.1)] {
+        let config = config_of(&["--oracle", oracle, "--preset", "sbst-niches"]);
+        assert_eq!(config["preset"], "sbst-niches");
+        assert_eq!(config["curvature_points"], 16);
+        assert_eq!(config["road"]["placement"], "fitted");
+        let niches = &config["search"]["wogan"]["niches"];
+        assert!(niches["quota"].as_u64().unwrap() > 0, "{oracle}");
+        assert_eq!(niches["min_fitness"], level, "{oracle}");
+    }
     // The paper's WOGAN has neither.
     let (_, records) = run(&["--max-tests", "3"]);
     let config = &records[0]["config"];
     assert!(config.get("preset").is_none());
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.0);
+    assert_eq!(config["search"]["wogan"]["niches"]["quota"], 0);
 }
 
 #[test]
@@ -336,11 +357,7 @@ fn a_config_file_overrides_the_defaults_and_typos_are_named() {
     ] {
         let path = dir.join(name);
         std::fs::write(&path, json).unwrap();
-        let output = wogan(&["run", "--config", path.to_str().unwrap()], "");
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(output.status.code(), Some(2), "{json}: {stderr}");
-        assert!(stderr.contains(named), "{json}: {stderr}");
-        assert!(output.stdout.is_empty());
+        assert_config_refused(path.to_str().unwrap(), named);
     }
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -420,11 +437,49 @@ fn driver_settings_are_read_from_driver_and_older_files_still_read() {
             "driver.control_hz must be positive",
         ),
     ] {
-        let output = wogan(&["run", "--config", &write(name, json)], "");
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(output.status.code(), Some(2), "{json}: {stderr}");
-        assert!(stderr.contains(named), "{json}: {stderr}");
-        assert!(output.stdout.is_empty());
+        assert_config_refused(&write(name, json), named);
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn niches_fill_with_the_runs_own_failures_unless_told_and_bad_settings_are_named() {
+    let dir = scratch_dir("niches");
+    let write = |name: &str, json: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, json).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let niches = write(
+        "niches.json",
+        r#"{"search": {"wogan": {"niches": {"quota": 5, "distance": 2.5, "radius": 1.0}}}}"#,
+    );
+    // The failure threshold of each driver's fitness, unless the file names one.
+    for (oracle, level) in [("beamng-ai-proxy", 0.85), ("dave2-proxy", 0.1)] {
+        let (code, records) = run(&["--oracle", oracle, "--max-tests", "3", "--config", &niches]);
+        assert_eq!(code, Some(0), "{oracle}");
+        let set = &records[0]["config"]["search"]["wogan"]["niches"];
+        assert_eq!(set["min_fitness"], level, "{oracle}");
+        assert_eq!(set["quota"], 5);
+    }
+    for (name, json, named) in [
+        (
+            "flat.json",
+            r#"{"search": {"wogan": {"niches": {"quota": 5, "distance": 2.5}}}}"#,
+            "wogan.niches.radius",
+        ),
+        (
+            "far.json",
+            r#"{"search": {"wogan": {"niches": {"quota": 5, "radius": 1000}}}}"#,
+            "wogan.niches.radius must be from 0 to 100",
+        ),
+        (
+            "typo.json",
+            r#"{"search": {"wogan": {"niches": {"qouta": 5}}}}"#,
+            "qouta",
+        ),
+    ] {
+        assert_config_refused(&write(name, json), named);
     }
     std::fs::remove_dir_all(&dir).ok();
 }

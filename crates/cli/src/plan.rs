@@ -67,7 +67,8 @@ pub struct RunArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(2..=499), allow_negative_numbers = true)]
     pub curvature_points: Option<u32>,
     /// A named set of search settings laid over the paper's WOGAN (the config file and the other
-    /// options still win): `sbst`, many distinct failures under the SBST competition's rules
+    /// options still win): `sbst`, many distinct failures under the SBST competition's rules;
+    /// `sbst-niches`, the same with niches, for failures more varied as whole roads
     /// (docs/reference.md).
     #[arg(long, value_enum)]
     pub preset: Option<SearchPreset>,
@@ -300,6 +301,10 @@ impl RunPlan {
             jobs: args.jobs as usize,
             ..config_file::lay_over(file.search.as_ref(), search_defaults, "search")?
         };
+        if search.wogan.niches.quota > 0 && search.wogan.niches.min_fitness == 0.0 {
+            // Niches are filled by failures: unless told otherwise, the run's own.
+            search.wogan.niches.min_fitness = fitness.failure_level(&sim);
+        }
         if let Some(init_fraction) = args.init_fraction {
             search.wogan.init_fraction = init_fraction;
         }

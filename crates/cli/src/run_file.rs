@@ -220,6 +220,23 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
             }
         }
     }
+    if let Some(quota) = setting("niches/quota").filter(|&q| q > 0.0) {
+        let short = |name: &str| {
+            let value = format!("{:.4}", setting(name).unwrap_or(0.0));
+            value
+                .trim_end_matches('0')
+                .trim_end_matches('.')
+                .to_string()
+        };
+        text.push_str(&format!(
+            ", niches of {quota} within {} seeded {} apart",
+            short("niches/radius"),
+            short("niches/distance")
+        ));
+        if let Some(patience) = setting("niches/patience").filter(|&p| p > 0.0) {
+            text.push_str(&format!(" or after {patience} tests"));
+        }
+    }
     // Rounds of several tests change which tests are chosen (one job is the paper's loop).
     let jobs = config.pointer("/search/jobs").and_then(Value::as_u64);
     if let Some(jobs) = jobs.filter(|&j| j > 1) {
@@ -422,6 +439,13 @@ mod tests {
         assert_eq!(
             crowded.acceptance,
             "decay 0.95, shape novelty 0.5 from fitness 0.85 allowing 4"
+        );
+        let niches = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0},"search":{"wogan":{"target_decay":0.95,"niches":{"quota":60,"distance":2.5,"radius":0.75,"min_fitness":0.85,"patience":40}}}}"#,
+        );
+        assert_eq!(
+            niches.acceptance,
+            "decay 0.95, niches of 60 within 0.75 seeded 2.5 apart or after 40 tests"
         );
         let fitted = key_of(
             r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"search":{"wogan":{"target_decay":0.95}}}"#,

@@ -6,7 +6,7 @@
 
 use road_sim::road::curvature::DEFAULT_STEP_M;
 use road_sim::{DriverKind, RoadPlacement};
-use wogan_core::{NoveltyConfig, RunConfig};
+use wogan_core::{NicheConfig, NoveltyConfig, RunConfig};
 
 /// A named set of search settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -18,6 +18,11 @@ pub enum SearchPreset {
     /// in its DAVE-2 setup the paper's roads with a closer novelty distance (docs/results.md, "The
     /// SBST 2022 field").
     Sbst,
+    /// `sbst` with niches: failures gathered in a few regions far apart by road shape, each
+    /// exploited in turn, for failures more varied as whole roads (the paper's diversity) at the
+    /// cost of some distinct ones; in the DAVE-2 setup on the BeamNG.AI setup's longer roads
+    /// (docs/results.md, "Niches").
+    SbstNiches,
 }
 
 /// The SBST competition's two setups, for which the `sbst` preset was measured apart: BeamNG.AI
@@ -50,16 +55,27 @@ pub struct PresetRoads {
     pub placement: RoadPlacement,
 }
 
-/// What the `sbst` preset sets in one setup.
+/// What an SBST preset sets in one setup.
 struct SbstSettings {
     /// The roads.
     roads: PresetRoads,
     /// Novelty distance over every executed test (root mean square, normalised units).
     novelty_distance: f32,
+    /// The share of mutants among the candidates.
+    mutation_share: f64,
+    /// The niches of failures (a quota of 0: none); their failure level is the run's.
+    niches: NicheConfig,
 }
 
 /// The `sbst` preset's share of mutants among the candidates, in both setups.
 const SBST_MUTATION_SHARE: f64 = 0.25;
+
+/// The BeamNG.AI setup's roads: 16 curvature values 10 m apart, fitted to the map.
+const BEAMNG_AI_ROADS: PresetRoads = PresetRoads {
+    curvature_points: 16,
+    step_m: 10.0,
+    placement: RoadPlacement::Fitted,
+};
 
 impl SbstSettings {
     /// The settings chosen for `setup` (docs/experiments/2026-11-25-sbst-field.md and
@@ -70,12 +86,10 @@ impl SbstSettings {
             // steps more ways to bend into it (the Frenetic tools' 10 m); fitted to the map, the
             // roads that swing far are kept, and the failures differ more as wholes.
             CompetitionSetup::BeamNgAi => Self {
-                roads: PresetRoads {
-                    curvature_points: 16,
-                    step_m: 10.0,
-                    placement: RoadPlacement::Fitted,
-                },
+                roads: BEAMNG_AI_ROADS,
                 novelty_distance: 0.1,
+                mutation_share: SBST_MUTATION_SHARE,
+                niches: NicheConfig::default(),
             },
             // At 25 km/h a long road costs nearly three times the simulated seconds it costs at
             // 70 km/h, and the driver fails in fewer ways: the paper's road length keeps the
@@ -87,6 +101,43 @@ impl SbstSettings {
                     placement: RoadPlacement::BottomCentre,
                 },
                 novelty_distance: 0.05,
+                mutation_share: SBST_MUTATION_SHARE,
+                niches: NicheConfig::default(),
+            },
+        }
+    }
+
+    /// The settings `sbst-niches` chose for `setup` (docs/experiments/2026-11-26-niches.md).
+    fn with_niches(setup: CompetitionSetup) -> Self {
+        match setup {
+            // Niches of 100 failures about three of a run's, seeds 3 rad (RMS) apart; mutants
+            // keep a niche productive, and a search between niches that finds no far seed in 40
+            // tests settles for the farthest failure it met, so the budget still exploits.
+            CompetitionSetup::BeamNgAi => Self {
+                mutation_share: 0.75,
+                niches: NicheConfig {
+                    quota: 100,
+                    distance: 3.0,
+                    radius: 1.0,
+                    patience: 40,
+                    min_fitness: 0.0,
+                },
+                ..Self::of(setup)
+            },
+            // The paper's 75 m roads all fail alike on this driver (out of one long right-hand
+            // bend), so no niche finds room: the longer roads give the bends before the exit
+            // room to differ. Seeds nearer than in the BeamNG.AI setup: fewer far regions fail.
+            CompetitionSetup::Dave2 => Self {
+                roads: BEAMNG_AI_ROADS,
+                mutation_share: 0.5,
+                niches: NicheConfig {
+                    quota: 100,
+                    distance: 2.0,
+                    radius: 1.0,
+                    patience: 0,
+                    min_fitness: 0.0,
+                },
+                ..Self::of(setup)
             },
         }
     }
@@ -95,29 +146,33 @@ impl SbstSettings {
 impl SearchPreset {
     /// The roads the preset makes for `driver`.
     pub fn roads(self, driver: DriverKind) -> PresetRoads {
+        self.settings(driver).roads
+    }
+
+    /// What the preset sets for `driver`.
+    fn settings(self, driver: DriverKind) -> SbstSettings {
+        let setup = CompetitionSetup::of(driver);
         match self {
-            Self::Sbst => SbstSettings::of(CompetitionSetup::of(driver)).roads,
+            Self::Sbst => SbstSettings::of(setup),
+            Self::SbstNiches => SbstSettings::with_niches(setup),
         }
     }
 
     /// Lays the preset's search settings for `driver` over `search` (the paper's, before the
     /// config file and the options are applied).
     pub fn apply(self, search: &mut RunConfig, driver: DriverKind) {
-        match self {
-            Self::Sbst => {
-                let settings = SbstSettings::of(CompetitionSetup::of(driver));
-                // Every executed test keeps candidates away, not only the failures: near-copies of
-                // a road that nearly failed are spent budget too, and keeping away from failures
-                // only cost more failing roads than it gained distinct ones (docs/experiments).
-                search.wogan.novelty = NoveltyConfig {
-                    distance: settings.novelty_distance,
-                    ..NoveltyConfig::default()
-                };
-                // The novelty rule costs failing roads; mutants of the best tests win them back
-                // (and more) while the rule keeps the mutants from repeating those tests.
-                search.wogan.mutation.share = SBST_MUTATION_SHARE;
-            }
-        }
+        let settings = self.settings(driver);
+        // Every executed test keeps candidates away, not only the failures: near-copies of a road
+        // that nearly failed are spent budget too, and keeping away from failures only cost more
+        // failing roads than it gained distinct ones (docs/experiments).
+        search.wogan.novelty = NoveltyConfig {
+            distance: settings.novelty_distance,
+            ..NoveltyConfig::default()
+        };
+        // The novelty rule costs failing roads; mutants of the best tests win them back (and
+        // more) while the rule keeps the mutants from repeating those tests.
+        search.wogan.mutation.share = settings.mutation_share;
+        search.wogan.niches = settings.niches;
     }
 }
 
@@ -150,6 +205,7 @@ mod tests {
             SearchPreset::Sbst.apply(&mut search, driver);
             assert_eq!(search.wogan.novelty.distance, distance, "{driver}");
             assert_eq!(search.wogan.mutation.share, SBST_MUTATION_SHARE);
+            assert_eq!(search.wogan.niches, NicheConfig::default());
             search.wogan.novelty = paper.wogan.novelty.clone();
             search.wogan.mutation.share = paper.wogan.mutation.share;
             assert_eq!(search, paper);
@@ -157,6 +213,26 @@ mod tests {
             assert_eq!(roads.curvature_points, points);
             assert_eq!(roads.placement, placement);
             assert_eq!(roads.step_m, step_m);
+        }
+    }
+
+    #[test]
+    fn sbst_niches_adds_niches_to_sbst_and_in_the_dave2_setup_its_longer_roads() {
+        for driver in [DriverKind::BeamNgAiProxy, DriverKind::Dave2Proxy] {
+            let (mut sbst, mut niches) = (RunConfig::default(), RunConfig::default());
+            SearchPreset::Sbst.apply(&mut sbst, driver);
+            SearchPreset::SbstNiches.apply(&mut niches, driver);
+            assert!(niches.wogan.niches.quota > 0, "{driver}");
+            assert!(niches.wogan.niches.distance > niches.wogan.niches.radius);
+            assert!(niches.wogan.mutation.share > sbst.wogan.mutation.share);
+            assert_eq!(niches.wogan.novelty, sbst.wogan.novelty);
+            niches.wogan.niches = sbst.wogan.niches.clone();
+            niches.wogan.mutation.share = sbst.wogan.mutation.share;
+            assert_eq!(niches, sbst, "{driver}");
+            assert_eq!(
+                SearchPreset::SbstNiches.roads(driver),
+                SearchPreset::Sbst.roads(DriverKind::BeamNgAiProxy)
+            );
         }
     }
 }

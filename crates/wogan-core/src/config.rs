@@ -117,6 +117,9 @@ pub struct WoganConfig {
     /// Candidates whose shape (`Sut::shape`) is near the shape of tests executed before are
     /// skipped, the distance in the shape's units (an extension; off in the paper).
     pub shape_novelty: NoveltyConfig,
+    /// Failures are gathered in niches filled one after another, kept apart by shape
+    /// (`Sut::shape`; an extension; off in the paper).
+    pub niches: NicheConfig,
     /// How the acceptance target carries over between the tests of one round when several are
     /// chosen at once (`jobs` > 1); with one test per round both rules are the paper's.
     pub round_acceptance: RoundAcceptance,
@@ -161,6 +164,7 @@ impl Default for WoganConfig {
             mutation: MutationConfig::default(),
             novelty: NoveltyConfig::default(),
             shape_novelty: NoveltyConfig::default(),
+            niches: NicheConfig::default(),
             round_acceptance: RoundAcceptance::default(),
         }
     }
@@ -328,6 +332,27 @@ pub struct NoveltyConfig {
     pub allowed_neighbours: usize,
 }
 
+/// Niches of failures filled one after another: a niche is a ball of shapes around a seed
+/// failure; the search ranks only candidates inside the open niche until it holds `quota`
+/// failures, then skips that ball, and the next failure far enough from every seed opens the next.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct NicheConfig {
+    /// Failures a niche holds before it is closed (0: off, the paper's WOGAN).
+    pub quota: usize,
+    /// A failure seeds a niche only at least this far from every seed before it (root mean
+    /// square of the shape differences, the shape's units: radians for a road's heading profile).
+    pub distance: f32,
+    /// A niche's radius around its seed, in the same units.
+    pub radius: f32,
+    /// Executed tests after which, between niches, the failure farthest from every seed seeds
+    /// the next niche though nearer than `distance` (0: never).
+    pub patience: usize,
+    /// Tests of at least this fitness are the failures that seed and fill niches (the SUT's
+    /// failure threshold).
+    pub min_fitness: f64,
+}
+
 impl Default for NoveltyConfig {
     fn default() -> Self {
         Self {
@@ -474,6 +499,23 @@ impl RunConfig {
             0.0,
             1.0,
         )?;
+        let n = &w.niches;
+        check_count(n.quota, "wogan.niches.quota", 0, MAX_ATTEMPTS)?;
+        for (value, field) in [
+            (n.distance, "wogan.niches.distance"),
+            (n.radius, "wogan.niches.radius"),
+        ] {
+            check_real(f64::from(value), field, 0.0, MAX_SHAPE_NOVELTY_DISTANCE)?;
+        }
+        check_real(n.min_fitness, "wogan.niches.min_fitness", 0.0, 1.0)?;
+        check_count(n.patience, "wogan.niches.patience", 0, MAX_ATTEMPTS)?;
+        if n.quota > 0 && (n.radius <= 0.0 || n.min_fitness <= 0.0) {
+            return Err(Error::Config(format!(
+                "wogan.niches.quota is {} but wogan.niches.radius ({}) and \
+                 wogan.niches.min_fitness ({}) must both be above 0 to make niches",
+                n.quota, n.radius, n.min_fitness
+            )));
+        }
         let m = &w.mutation;
         check_real(m.share, "wogan.mutation.share", 0.0, 1.0)?;
         check_count(m.parents, "wogan.mutation.parents", 1, MAX_BATCH)?;

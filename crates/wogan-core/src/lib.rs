@@ -104,6 +104,17 @@
 //! a candidate is compared by [`Sut::shape`] (for a road, its heading profile) with the shapes of
 //! the executed tests. Off by default, and for a SUT without shapes.
 //!
+//! # Beyond the paper: niches
+//!
+//! With [`NicheConfig::quota`] above 0, failures fill niches one after another. A niche is a ball
+//! of [`NicheConfig::radius`] around a seed failure's shape ([`Sut::shape`]); while it is open
+//! only candidates inside it are ranked and only its failures are mutation parents. Once it holds
+//! `quota` failures it closes, and only candidates at least [`NicheConfig::distance`] from every
+//! seed are ranked until a failure there seeds the next niche (or, after
+//! [`NicheConfig::patience`] tests, the failure met farthest from the seeds). A run ends with a
+//! few regions of failures about equal in size, far apart by shape. Off by default, and for a SUT
+//! without shapes.
+//!
 //! # The critic
 //!
 //! The gradient penalty needs the critic's gradient with respect to its input; it is written
@@ -126,7 +137,7 @@ mod stgem_parity;
 
 pub use budget::{Budget, SbstBudget, SbstUsage};
 pub use config::{
-    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig,
+    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig, NicheConfig,
     NoveltyConfig, RoundAcceptance, RunConfig, SamplerConfig, WganConfig, WoganConfig,
 };
 pub use error::Error;

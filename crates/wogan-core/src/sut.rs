@@ -29,8 +29,8 @@ pub trait Sut: Sync {
     fn execute(&self, test: &[f32]) -> Option<Execution<Self::Output>>;
     /// What a valid test does, as values that compare tests by effect rather than by their own
     /// values (for a road: its heading profile, radians), of one length for every test; `None`,
-    /// the default, when the SUT has no such description. Only the shape novelty rule uses it
-    /// (`WoganConfig::shape_novelty`).
+    /// the default, when the SUT has no such description. Only the shape novelty rule and the
+    /// niches use it (`WoganConfig::shape_novelty`, `WoganConfig::niches`).
     fn shape(&self, _test: &[f32]) -> Option<Vec<f32>> {
         None
     }

@@ -1,11 +1,12 @@
 //! WOGAN's test choice: the learning state ([`WoganModel`]), the fitness bins that bias its GAN
-//! batches, the acceptance rule that picks a candidate, the optional mutants and novelty rule, and the snapshot
-//! of its trained networks that proposes later without training.
+//! batches, the acceptance rule that picks a candidate, the optional mutants, novelty rule and
+//! niches, and the snapshot of its trained networks that proposes later without training.
 
 mod acceptance;
 mod bins;
 mod model;
 mod mutation;
+mod niches;
 mod novelty;
 mod snapshot;
 mod training_round;

@@ -10,9 +10,10 @@ use rand::{Rng, RngExt};
 use super::acceptance::Acceptance;
 use super::bins::{biased_batch, bin_of, RngDraws};
 use super::mutation::{mutate, parent_indices};
+use super::niches::{NicheRole, Niches};
 use super::novelty::is_novel;
 use super::training_round::{AnalyzerSteps, TrainingData};
-use crate::config::WoganConfig;
+use crate::config::{MutationConfig, WoganConfig};
 use crate::error::Error;
 use crate::nets::{logit_target, uniform_noise, Analyzer, AnalyzerTrainer, Generator, Wgan};
 use crate::sut::Sut;
@@ -62,6 +63,10 @@ pub struct WoganModel {
     /// The shapes (`Sut::shape`) of the tests that keep candidates away by `shape_novelty`,
     /// flattened.
     shape_anchors: Vec<f32>,
+    /// The niches of failures (`niches`), and each test's place among them (indexed like
+    /// `targets`).
+    niches: Niches,
+    niche_roles: Vec<NicheRole>,
     bins: Vec<Vec<usize>>,
     bin_of_test: Vec<usize>,
     rounds: usize,
@@ -86,6 +91,13 @@ impl WoganModel {
             targets: Vec::new(),
             novelty_anchors: Vec::new(),
             shape_anchors: Vec::new(),
+            niches: Niches::new(
+                cfg.niches.quota,
+                cfg.niches.distance,
+                cfg.niches.radius,
+                cfg.niches.patience,
+            ),
+            niche_roles: Vec::new(),
             bins: vec![Vec::new(); cfg.bins],
             bin_of_test: Vec::new(),
             rounds: 0,
@@ -133,40 +145,78 @@ impl WoganModel {
         if novelty.distance > 0.0 && novelty.min_fitness > 0.0 && fitness >= novelty.min_fitness {
             self.novelty_anchors.extend_from_slice(test);
         }
+        self.niche_roles.push(NicheRole::Outside);
         let b = bin_of(fitness, self.cfg.bins);
         self.bins[b].push(idx);
         self.bin_of_test.push(b);
     }
 
     /// Records a test `sut` executed and its fitness, with the test's shape when the shape
-    /// novelty rule keeps candidates away from it.
+    /// novelty rule keeps candidates away from it or it is a failure that fills a niche.
     pub fn add_executed<S: Sut + ?Sized>(&mut self, sut: &S, test: &[f32], fitness: f64) {
+        let idx = self.len();
         self.add(test, fitness);
         let rule = &self.cfg.shape_novelty;
-        if rule.distance > 0.0 && fitness >= rule.min_fitness {
-            if let Some(shape) = sut.shape(test) {
-                self.shape_anchors.extend_from_slice(&shape);
+        let anchors_shape = rule.distance > 0.0 && fitness >= rule.min_fitness;
+        let fills_niche = self.niches.are_on() && fitness >= self.cfg.niches.min_fitness;
+        let shape = if anchors_shape || fills_niche {
+            sut.shape(test)
+        } else {
+            None
+        };
+        if let Some(shape) = shape.as_ref().filter(|_| anchors_shape) {
+            self.shape_anchors.extend_from_slice(shape);
+        }
+        if self.niches.are_on() {
+            let mut roles = Vec::new();
+            let failure_shape = shape.as_deref().filter(|_| fills_niche);
+            self.niches.record_test(idx, failure_shape, &mut roles);
+            for (test, role) in roles {
+                self.niche_roles[test] = role;
             }
         }
     }
 
-    /// Whether candidate `c` is far enough from the executed tests by both novelty rules.
+    /// Which tests may not be mutation parents because of the niches: while one is open, all
+    /// but its failures (it is the region being exploited). Otherwise none: a reshaped mutant of
+    /// any test (a mirrored road, say) may seed the next niche.
+    fn niche_parents_excluded(&self) -> Vec<bool> {
+        if !self.niches.is_open() {
+            return Vec::new();
+        }
+        self.niche_roles
+            .iter()
+            .map(|&role| role != NicheRole::Open)
+            .collect()
+    }
+
+    /// How many niches of failures were closed (0 while niches are off).
+    pub fn closed_niches(&self) -> usize {
+        self.niches.closed()
+    }
+
+    /// Whether candidate `c` is far enough from the executed tests by both novelty rules, and
+    /// where the niches admit it.
     fn is_novel_candidate<S: Sut + ?Sized>(&self, sut: &S, c: &[f32], anchors: &[f32]) -> bool {
         let rule = &self.cfg.novelty;
         if !is_novel(c, anchors, rule.distance, rule.allowed_neighbours) {
             return false;
         }
         let rule = &self.cfg.shape_novelty;
-        if rule.distance <= 0.0 || self.shape_anchors.is_empty() {
+        let shape_rule_applies = rule.distance > 0.0 && !self.shape_anchors.is_empty();
+        let niches_apply = self.niches.constrain();
+        if !(shape_rule_applies || niches_apply) {
             return true;
         }
         sut.shape(c).is_none_or(|shape| {
-            is_novel(
-                &shape,
-                &self.shape_anchors,
-                rule.distance,
-                rule.allowed_neighbours,
-            )
+            (!shape_rule_applies
+                || is_novel(
+                    &shape,
+                    &self.shape_anchors,
+                    rule.distance,
+                    rule.allowed_neighbours,
+                ))
+                && self.niches.admits(&shape)
         })
     }
 
@@ -316,7 +366,13 @@ impl WoganModel {
         let noise_dim = self.cfg.generator.noise_dim;
         let batch = self.cfg.candidate_batch;
         let parents = if self.cfg.mutation.share > 0.0 {
-            parent_indices(&self.tests, self.dim, &self.targets, &self.cfg.mutation)
+            parent_indices(
+                &self.tests,
+                self.dim,
+                &self.targets,
+                &self.niche_parents_excluded(),
+                &self.cfg.mutation,
+            )
         } else {
             Vec::new()
         };
@@ -383,7 +439,17 @@ impl WoganModel {
         parents: &[usize],
         rng: &mut R,
     ) -> Vec<bool> {
-        let mutation = &self.cfg.mutation;
+        // Between niches every mutant is reshaped: the search needs a jump far from the seeds
+        // so far (a mirrored failure, say), not a small step beside one.
+        let between_niches = MutationConfig {
+            reshape_probability: 1.0,
+            ..self.cfg.mutation.clone()
+        };
+        let mutation = if self.niches.constrain() && !self.niches.is_open() {
+            &between_niches
+        } else {
+            &self.cfg.mutation
+        };
         let mut is_mutant = vec![false; cands.len() / self.dim];
         if parents.is_empty() {
             return is_mutant;
@@ -684,5 +750,89 @@ mod tests {
             }
         }
         assert!(ranked > 0, "every proposal fell back to random search");
+    }
+
+    /// Of 20 proposals of `model`: how many the analyzer ranked, and whether the shape of any of
+    /// those lies nearer than `distance` (RMS) to one of `shapes`.
+    fn ranked_proposal_nearer_than(
+        model: &WoganModel,
+        shapes: &[Vec<f32>],
+        distance: f32,
+        rng: &mut ChaCha20Rng,
+    ) -> (usize, bool) {
+        let sampler = Sampler::new(3, SamplerConfig::default());
+        let rms = |a: &[f32], b: &[f32]| {
+            let sum: f32 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
+            (sum / a.len() as f32).sqrt()
+        };
+        let (mut ranked, mut near) = (0, false);
+        for _ in 0..20 {
+            let p = model.propose(&Summed, &sampler, rng).unwrap();
+            if p.predicted.is_some() {
+                ranked += 1;
+                let shape = Summed.shape(&p.test).unwrap();
+                near |= shapes.iter().any(|a| rms(a, &shape) < distance);
+            }
+        }
+        (ranked, near)
+    }
+
+    #[test]
+    fn with_niches_no_proposal_lies_in_a_closed_niche() {
+        let niches = crate::NicheConfig {
+            quota: 10,
+            distance: 0.8,
+            radius: 0.4,
+            patience: 0,
+            min_fitness: 0.5,
+        };
+        let sampler = Sampler::new(3, SamplerConfig::default());
+        let mut near_closed_seed = Vec::new();
+        for quota in [niches.quota, 0] {
+            let cfg = WoganConfig {
+                niches: crate::NicheConfig {
+                    quota,
+                    ..niches.clone()
+                },
+                // Mutants of the failures would land in their niche.
+                mutation: crate::MutationConfig {
+                    share: 0.5,
+                    ..crate::MutationConfig::default()
+                },
+                ..WoganConfig::default()
+            };
+            let mut rng = ChaCha20Rng::seed_from_u64(7);
+            let mut model = WoganModel::new(3, &cfg, &mut rng);
+            let mut seed_shape = None;
+            // Failures near the first one fill its niche; the tenth closes it.
+            let first = [0.2f32, -0.1, 0.3];
+            for k in 0..30 {
+                let mut t = sampler.sample(&mut rng);
+                let fitness = if k % 3 == 0 { 0.9 } else { 0.1 };
+                if fitness >= niches.min_fitness {
+                    for (v, f) in t.iter_mut().zip(first) {
+                        *v = f + 0.1 * (*v - f);
+                    }
+                    seed_shape.get_or_insert_with(|| Summed.shape(&t).unwrap());
+                }
+                model.add_executed(&Summed, &t, fitness);
+            }
+            assert_eq!(model.closed_niches(), usize::from(quota > 0));
+            model.train(0.0, &mut rng).unwrap();
+            let (ranked, near) = ranked_proposal_nearer_than(
+                &model,
+                &[seed_shape.unwrap()],
+                niches.radius,
+                &mut rng,
+            );
+            assert!(ranked > 0, "every proposal fell back to random search");
+            near_closed_seed.push(near);
+        }
+        assert!(
+            !near_closed_seed[0],
+            "a ranked proposal lies in the closed niche"
+        );
+        // Without niches the same search proposes roads there: the rule is what keeps them out.
+        assert!(near_closed_seed[1]);
     }
 }

@@ -31,15 +31,25 @@ fn top_indices(scores: &[f32], count: usize) -> Vec<usize> {
 
 /// Indices of up to `cfg.parents` parents among `tests` (`dim` values each), highest `scores`
 /// first, each at least `cfg.min_parent_distance` from those before it (fewer when the tests
-/// crowd together: distinct regions matter more than the count).
+/// crowd together: distinct regions matter more than the count). A test marked in `excluded`
+/// (indexed like `scores`; shorter means the rest are not) is never a parent.
 pub(crate) fn parent_indices(
     tests: &[f32],
     dim: usize,
     scores: &[f32],
+    excluded: &[bool],
     cfg: &MutationConfig,
 ) -> Vec<usize> {
+    let eligible = |i: &usize| !excluded.get(*i).copied().unwrap_or(false);
     if cfg.min_parent_distance <= 0.0 {
-        return top_indices(scores, cfg.parents);
+        if !excluded.contains(&true) {
+            return top_indices(scores, cfg.parents);
+        }
+        return top_indices(scores, scores.len())
+            .into_iter()
+            .filter(eligible)
+            .take(cfg.parents)
+            .collect();
     }
     let test = |i: usize| &tests[i * dim..(i + 1) * dim];
     let far_enough = |a: &[f32], b: &[f32]| {
@@ -47,7 +57,10 @@ pub(crate) fn parent_indices(
         squared >= cfg.min_parent_distance * cfg.min_parent_distance
     };
     let mut parents: Vec<usize> = Vec::with_capacity(cfg.parents);
-    for candidate in top_indices(scores, scores.len()) {
+    for candidate in top_indices(scores, scores.len())
+        .into_iter()
+        .filter(eligible)
+    {
         if parents.len() == cfg.parents {
             break;
         }
@@ -96,7 +109,7 @@ mod tests {
     }
 
     #[test]
-    fn distant_parents_skip_tests_near_a_better_one() {
+    fn distant_parents_skip_tests_near_a_better_one_and_excluded_tests() {
         // Tests 0 and 1 are close; 2 is far from both.
         let tests = [0.0, 0.0, 0.1, 0.0, 0.9, 0.9];
         let scores = [0.9, 0.8, 0.5];
@@ -105,11 +118,19 @@ mod tests {
             min_parent_distance: 0.0,
             ..MutationConfig::default()
         };
-        assert_eq!(parent_indices(&tests, 2, &scores, &cfg), vec![0, 1]);
+        let parents = |excluded: &[bool], cfg: &MutationConfig| {
+            parent_indices(&tests, 2, &scores, excluded, cfg)
+        };
+        let excluded = [true, false, false];
+        assert_eq!(parents(&[], &cfg), vec![0, 1]);
+        assert_eq!(parents(&excluded, &cfg), vec![1, 2]);
         cfg.min_parent_distance = 0.5;
-        assert_eq!(parent_indices(&tests, 2, &scores, &cfg), vec![0, 2]);
+        assert_eq!(parents(&[], &cfg), vec![0, 2]);
+        // Test 1 is the best left; test 2 lies far from it.
+        assert_eq!(parents(&excluded, &cfg), vec![1, 2]);
+        assert!(parents(&[true; 3], &cfg).is_empty());
         cfg.parents = 3;
-        assert_eq!(parent_indices(&tests, 2, &scores, &cfg), vec![0, 2]);
+        assert_eq!(parents(&[], &cfg), vec![0, 2]);
     }
 
     #[test]
