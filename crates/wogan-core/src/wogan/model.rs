@@ -441,12 +441,13 @@ impl WoganModel {
     ) -> Vec<bool> {
         // Between niches every mutant is reshaped: the search needs a jump far from the seeds
         // so far (a mirrored failure, say), not a small step beside one.
-        let between_niches = MutationConfig {
-            reshape_probability: 1.0,
-            ..self.cfg.mutation.clone()
-        };
+        let reshaped;
         let mutation = if self.niches.constrain() && !self.niches.is_open() {
-            &between_niches
+            reshaped = MutationConfig {
+                reshape_probability: 1.0,
+                ..self.cfg.mutation.clone()
+            };
+            &reshaped
         } else {
             &self.cfg.mutation
         };
