@@ -91,12 +91,7 @@ impl WoganModel {
             targets: Vec::new(),
             novelty_anchors: Vec::new(),
             shape_anchors: Vec::new(),
-            niches: Niches::new(
-                cfg.niches.quota,
-                cfg.niches.distance,
-                cfg.niches.radius,
-                cfg.niches.patience,
-            ),
+            niches: Niches::new(&cfg.niches),
             niche_roles: Vec::new(),
             bins: vec![Vec::new(); cfg.bins],
             bin_of_test: Vec::new(),

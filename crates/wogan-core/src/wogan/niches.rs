@@ -22,6 +22,8 @@
 //! (a random test drawn after a streak of skipped candidates may land anywhere) count as failures
 //! but belong to no niche.
 
+use crate::NicheConfig;
+
 /// A test's place among the niches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum NicheRole {
@@ -64,14 +66,13 @@ fn rms_distance(a: &[f32], b: &[f32]) -> f32 {
 }
 
 impl Niches {
-    /// Niches of `quota` failures within `radius` of seeds at least `seed_distance` apart, or
-    /// seeded by the farthest failure after `patience` tests between niches (a quota of 0: off).
-    pub(crate) fn new(quota: usize, seed_distance: f32, radius: f32, patience: usize) -> Self {
+    /// The niches a configuration asks for (off at a quota of 0).
+    pub(crate) fn new(config: &NicheConfig) -> Self {
         Self {
-            quota,
-            seed_distance,
-            radius,
-            patience,
+            quota: config.quota,
+            seed_distance: config.distance,
+            radius: config.radius,
+            patience: config.patience,
             ..Self::default()
         }
     }
@@ -210,6 +211,17 @@ impl Niches {
 mod tests {
     use super::*;
 
+    /// Niches of `quota` failures within `radius` of seeds `distance` apart, with a patience.
+    fn niches_of(quota: usize, distance: f32, radius: f32, patience: usize) -> Niches {
+        Niches::new(&NicheConfig {
+            quota,
+            distance,
+            radius,
+            patience,
+            ..NicheConfig::default()
+        })
+    }
+
     /// Records test `index` (a failure when `shape` is given): the roles it changed.
     fn record(niches: &mut Niches, index: usize, shape: Option<&[f32]>) -> Vec<(usize, NicheRole)> {
         let mut roles = Vec::new();
@@ -219,7 +231,7 @@ mod tests {
 
     #[test]
     fn a_niche_admits_only_its_ball_until_it_closes_then_only_far_seeds() {
-        let mut niches = Niches::new(2, 3.0, 1.0, 0);
+        let mut niches = niches_of(2, 3.0, 1.0, 0);
         assert!(niches.are_on() && !niches.constrain());
         assert!(niches.admits(&[9.0, 9.0]));
         assert_eq!(
@@ -246,7 +258,7 @@ mod tests {
 
     #[test]
     fn a_new_niche_is_seeded_only_far_from_every_seed() {
-        let mut niches = Niches::new(1, 3.0, 1.0, 0);
+        let mut niches = niches_of(1, 3.0, 1.0, 0);
         assert_eq!(
             record(&mut niches, 0, Some(&[0.0])),
             [(0, NicheRole::Closed)]
@@ -264,7 +276,7 @@ mod tests {
 
     #[test]
     fn after_the_patience_the_farthest_failure_between_niches_seeds_the_next() {
-        let mut niches = Niches::new(2, 3.0, 1.0, 4);
+        let mut niches = niches_of(2, 3.0, 1.0, 4);
         record(&mut niches, 0, Some(&[0.0]));
         record(&mut niches, 1, Some(&[0.5]));
         assert_eq!(niches.closed(), 1);
@@ -277,7 +289,7 @@ mod tests {
         assert!(niches.is_open());
         assert!(niches.admits(&[-2.0]) && !niches.admits(&[0.0]));
         // Without patience nothing is seeded.
-        let mut patient = Niches::new(2, 3.0, 1.0, 0);
+        let mut patient = niches_of(2, 3.0, 1.0, 0);
         record(&mut patient, 0, Some(&[0.0]));
         record(&mut patient, 1, Some(&[0.5]));
         record(&mut patient, 2, Some(&[-2.5]));
@@ -289,7 +301,7 @@ mod tests {
 
     #[test]
     fn niches_off_record_and_keep_out_nothing() {
-        for mut niches in [Niches::new(0, 1.0, 1.0, 0), Niches::new(3, 1.0, 0.0, 0)] {
+        for mut niches in [niches_of(0, 1.0, 1.0, 0), niches_of(3, 1.0, 0.0, 0)] {
             assert!(!niches.are_on());
             for i in 0..5 {
                 assert!(record(&mut niches, i, Some(&[0.0])).is_empty());
