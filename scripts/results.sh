@@ -456,10 +456,11 @@ def niches_section():
         out()
         out("| B | " + " | ".join(f"{m}: A / B, p" for m in NICHES_COMPARED) + " |")
         out("|---|" + "---|" * len(NICHES_COMPARED))
+        # The seeds A has, so that both sides are the same searches' luck.
+        seeds = {n.rsplit(".", 2)[-2] for n in niches}
         for tag, name in OURS[:2]:
-            # The seeds A has, so that both sides are the same searches' luck.
             paths = [p for p in runs_of(f"target/sbst/{oracle}.{tag}")
-                     if p.rsplit(".", 2)[-2] in {n.rsplit(".", 2)[-2] for n in niches}]
+                     if p.rsplit(".", 2)[-2] in seeds]
             if not paths:
                 continue
             rows = compared(niches, paths, NICHES_COMPARED)

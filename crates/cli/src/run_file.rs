@@ -183,6 +183,13 @@ fn read_record(run: &mut RunFile, text: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// `value` to at most 4 decimals, without trailing zeros: settings written from f32 and a
+/// matched decay group with the same value typed by hand.
+fn four_decimals(value: f64) -> String {
+    let text = format!("{value:.4}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// WOGAN's settings for choosing tests, which change what a run finds as much as the fitness does:
 /// the acceptance decay (to 4 decimals, so a matched default and the same value typed by hand
 /// group together), the mutation share when there are mutants, and rounds of several tests.
@@ -196,8 +203,7 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
         Some(decay) if algorithm == "wogan" => decay,
         _ => return String::new(),
     };
-    let decay = format!("{decay:.4}");
-    let decay = decay.trim_end_matches('0').trim_end_matches('.');
+    let decay = four_decimals(decay);
     let mut text = match setting("mutation/share") {
         Some(share) if share > 0.0 => format!("decay {decay}, mutants {share}"),
         _ => format!("decay {decay}"),
@@ -205,11 +211,7 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
     for (rule, name) in [("novelty", "novelty"), ("shape_novelty", "shape novelty")] {
         if let Some(distance) = setting(&format!("{rule}/distance")).filter(|&d| d > 0.0) {
             // Written from f32: 4 decimals, as the decay.
-            let distance = format!("{distance:.4}");
-            text.push_str(&format!(
-                ", {name} {}",
-                distance.trim_end_matches('0').trim_end_matches('.')
-            ));
+            text.push_str(&format!(", {name} {}", four_decimals(distance)));
             if let Some(fitness) = setting(&format!("{rule}/min_fitness")).filter(|&f| f > 0.0) {
                 text.push_str(&format!(" from fitness {fitness}"));
             }
@@ -221,13 +223,7 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
         }
     }
     if let Some(quota) = setting("niches/quota").filter(|&q| q > 0.0) {
-        let short = |name: &str| {
-            let value = format!("{:.4}", setting(name).unwrap_or(0.0));
-            value
-                .trim_end_matches('0')
-                .trim_end_matches('.')
-                .to_string()
-        };
+        let short = |name: &str| four_decimals(setting(name).unwrap_or(0.0));
         text.push_str(&format!(
             ", niches of {quota} within {} seeded {} apart",
             short("niches/radius"),

@@ -467,6 +467,7 @@ mod tests {
     use super::*;
     use crate::config::SamplerConfig;
     use crate::sut::Execution;
+    use crate::wogan::niches::rms_distance;
     use rand::SeedableRng;
     use rand_chacha::ChaCha20Rng;
 
@@ -660,17 +661,13 @@ mod tests {
             model.add(&t, fitness);
         }
         model.train(0.0, &mut rng).unwrap();
-        let rms = |a: &[f32], b: &[f32]| {
-            let sum: f32 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
-            (sum / a.len() as f32).sqrt()
-        };
         for _ in 0..20 {
             let p = model.propose(&Anything, &sampler, &mut rng).unwrap();
             // A proposal the analyzer ranked is novel; a random fallback need not be.
             if p.predicted.is_some() {
                 let nearest = anchors
                     .iter()
-                    .map(|a| rms(a, &p.test))
+                    .map(|a| rms_distance(a, &p.test))
                     .fold(f32::MAX, f32::min);
                 assert!(nearest >= novelty.distance, "{nearest} from {:?}", p.test);
             }
@@ -728,10 +725,6 @@ mod tests {
             model.add_executed(&Summed, &t, fitness);
         }
         model.train(0.0, &mut rng).unwrap();
-        let rms = |a: &[f32], b: &[f32]| {
-            let sum: f32 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
-            (sum / a.len() as f32).sqrt()
-        };
         let mut ranked = 0;
         for _ in 0..20 {
             let p = model.propose(&Summed, &sampler, &mut rng).unwrap();
@@ -740,7 +733,7 @@ mod tests {
                 let shape = Summed.shape(&p.test).unwrap();
                 let nearest = failure_shapes
                     .iter()
-                    .map(|a| rms(a, &shape))
+                    .map(|a| rms_distance(a, &shape))
                     .fold(f32::MAX, f32::min);
                 assert!(nearest >= rule.distance, "{nearest} from {:?}", p.test);
             }
@@ -757,17 +750,13 @@ mod tests {
         rng: &mut ChaCha20Rng,
     ) -> (usize, bool) {
         let sampler = Sampler::new(3, SamplerConfig::default());
-        let rms = |a: &[f32], b: &[f32]| {
-            let sum: f32 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
-            (sum / a.len() as f32).sqrt()
-        };
         let (mut ranked, mut near) = (0, false);
         for _ in 0..20 {
             let p = model.propose(&Summed, &sampler, rng).unwrap();
             if p.predicted.is_some() {
                 ranked += 1;
                 let shape = Summed.shape(&p.test).unwrap();
-                near |= shapes.iter().any(|a| rms(a, &shape) < distance);
+                near |= shapes.iter().any(|a| rms_distance(a, &shape) < distance);
             }
         }
         (ranked, near)

@@ -60,7 +60,7 @@ pub(crate) struct Niches {
 }
 
 /// Root mean square of the differences of two shapes of one length.
-fn rms_distance(a: &[f32], b: &[f32]) -> f32 {
+pub(crate) fn rms_distance(a: &[f32], b: &[f32]) -> f32 {
     let squared: f32 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
     (squared / a.len().max(1) as f32).sqrt()
 }
