@@ -1,7 +1,8 @@
 //! End-to-end tests of a controller process as the driver (`--oracle cmd:...`): the examples drive
-//! the reference roads, and a controller that crashes, hangs, writes garbage or a number out of
-//! range fails that drive as ERROR and is restarted for the next (tests/python/faulty_controller.py;
-//! skipped, saying so, where python3 is missing); no file starts a controller.
+//! the reference roads, and a controller that crashes, hangs, writes garbage, a number out of range,
+//! a reply to another step or two replies to one fails that drive as ERROR and is restarted for the
+//! next (tests/python/faulty_controller.py; skipped, saying so, where python3 is missing); no file
+//! starts a controller.
 
 use crate::common::{records, scratch_dir, spawn, watchdog, wogan, write_file};
 use serde_json::Value;
@@ -90,25 +91,37 @@ fn a_faulty_controller_fails_one_drive_and_is_restarted_for_the_next() {
     let dir = scratch_dir("controller-faults");
     let config = write_file(&dir, "fast.json", r#"{"driver": {"step_timeout_s": 0.5}}"#);
     let roads = reference_roads(3);
-    for (mode, says) in [
-        ("crash", "ended (or closed its output) before answering; its stderr ended with:\nfaulty controller: crashing at step 5 of drive 2"),
-        ("hang", "no answer within 0.500 s"),
-        ("garbage", "the reply is not JSON"),
-        ("range", "steering: 5 is outside [-1, 1]"),
+    // (mode, the drive that fails, what its error says)
+    for (mode, bad, says) in [
+        ("crash", 1, "ended (or closed its output) before answering; its stderr ended with:\nfaulty controller: crashing at step 5 of drive 2"),
+        ("hang", 1, "no answer within 0.500 s"),
+        ("garbage", 1, "the reply is not JSON"),
+        ("range", 1, "steering: 5 is outside [-1, 1]"),
+        ("wrong-step", 1, "step: 105 is not the step asked (5)"),
+        // A second line is found at the next step: left over when that step is sent, or read
+        // after it and naming step 5.
+        ("flood", 1, "more than one line for one request"),
+        ("late-second", 1, "more than one line for one request (a second reply to step 5)"),
+        // ... and a second reply to a drive's last step, at the first step of the next drive.
+        ("end-second", 2, "more than one line for one request"),
     ] {
         let oracle = format!("cmd:python3 {REPO}/tests/python/faulty_controller.py {mode} 2 5");
         let output = wogan(&["simulate", "--oracle", &oracle, "--config", &config], &roads);
         assert_eq!(output.status.code(), Some(0), "{mode}");
         let answers = records(&output);
         assert_eq!(answers.len(), 3, "{mode}");
-        assert_ne!(answers[0]["outcome"], "ERROR", "{mode}: {}", answers[0]);
-        assert_eq!(answers[1]["outcome"], "ERROR", "{mode}: {}", answers[1]);
-        assert_eq!(answers[1]["reason"], "driver_failed");
-        let error = answers[1]["error"].as_str().unwrap_or_default();
-        assert!(error.starts_with("the controller: at t = "), "{mode}: {error}");
-        assert!(error.contains(says), "{mode}: {error}");
-        // A new controller drives the next road.
-        assert_ne!(answers[2]["outcome"], "ERROR", "{mode}: {}", answers[2]);
+        for (i, answer) in answers.iter().enumerate() {
+            if i != bad {
+                // A new controller drives the road after a failed one.
+                assert_ne!(answer["outcome"], "ERROR", "{mode}: {answer}");
+                continue;
+            }
+            assert_eq!(answer["outcome"], "ERROR", "{mode}: {answer}");
+            assert_eq!(answer["reason"], "driver_failed");
+            let error = answer["error"].as_str().unwrap_or_default();
+            assert!(error.starts_with("the controller: at t = "), "{mode}: {error}");
+            assert!(error.contains(says), "{mode}: {error}");
+        }
     }
 }
 

@@ -1,7 +1,7 @@
 //! End-to-end tests of `wogan simulate`.
 
 use crate::common::{records, scratch_dir, wogan, wogan_ok, write_file};
-use serde_json::Value;
+use serde_json::{json, Value};
 
 fn reference_roads(count: usize) -> String {
     let path = concat!(
@@ -96,7 +96,7 @@ fn a_config_file_tunes_the_driver_and_names_what_it_cannot_use() {
 
 #[test]
 fn invalid_roads_are_not_driven_and_bad_lines_reported() {
-    let input = "[[1, 10], [1, 50]]\nnot json\n{\"curvature\": [0, 0, 0]}";
+    let input = "{\"id\": \"t1\", \"road_points\": [[1, 10], [1, 50]]}\nnot json\n{\"id\": 7, \"curvature\": [0, 0, 0]}\n{\"curvature\": [0, 0, 0]}";
     let output = wogan(&["simulate"], input);
     assert_eq!(output.status.code(), Some(1));
     let records = records(&output);
@@ -105,6 +105,12 @@ fn invalid_roads_are_not_driven_and_bad_lines_reported() {
     assert_eq!(records[1]["type"], "error");
     assert_eq!(records[1]["line"], 2);
     assert_eq!(records[2]["outcome"], "PASS");
+    // Answers echo the input's `id` (an executor's answer names its road so), and only then.
+    assert_eq!(
+        (&records[0]["id"], &records[2]["id"]),
+        (&json!("t1"), &json!(7))
+    );
+    assert!(records[3].get("id").is_none(), "{}", records[3]);
 }
 
 #[test]

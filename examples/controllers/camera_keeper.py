@@ -52,4 +52,5 @@ for line in sys.stdin:
         steering = max(-1.0, min(1.0, -STEER_GAIN * offset))
     error = speed_limit - message["speed_mps"]
     throttle = max(0.0, min(1.0, GAIN * error))
-    print(json.dumps({"steering": steering, "throttle": throttle, "brake": 0.0}), flush=True)
+    reply = {"step": message["step"], "steering": steering, "throttle": throttle, "brake": 0.0}
+    print(json.dumps(reply), flush=True)

@@ -3,8 +3,8 @@
 only: it steers towards the lane-centre point about LOOKAHEAD_M ahead and holds a set speed.
 
 Each `step` line gives the lane centre ahead in the car's frame (`ahead`: x forward, y left,
-metres); the reply is `{"steering": s, "throttle": t, "brake": b}` with steering a share of the
-car's largest angle, positive left. Lines of other types (`hello`, `road`, `end`, `bye`) get no
+metres); the reply is `{"step": n, "steering": s, "throttle": t, "brake": b}`: the step's number,
+and steering a share of the car's largest angle, positive left. Lines of other types (`hello`, `road`, `end`, `bye`) get no
 reply. The protocol is in wogan's docs/reference.md ("Your own lane keeper").
 """
 import json
@@ -39,4 +39,5 @@ for line in sys.stdin:
     error = speed_limit - message["speed_mps"]
     throttle = max(0.0, min(1.0, GAIN * error))
     brake = max(0.0, min(1.0, -GAIN * error)) if error < -1.0 else 0.0
-    print(json.dumps({"steering": steering, "throttle": throttle, "brake": brake}), flush=True)
+    reply = {"step": message["step"], "steering": steering, "throttle": throttle, "brake": brake}
+    print(json.dumps(reply), flush=True)

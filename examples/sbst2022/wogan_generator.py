@@ -118,7 +118,8 @@ class WoganGenerator:
         outcome, description, execution_data = self.executor.execute_test(the_test)
         log.info("wogan road %s as pipeline test %s: %s", message["id"], the_test.id, outcome)
         timer = execution_data[-1].timer if execution_data else 0.0
-        return {"max_bolp": largest_bolp(execution_data),
+        return {"id": message["id"],
+                "max_bolp": largest_bolp(execution_data),
                 "outcome": outcome if outcome in ("PASS", "FAIL") else "ERROR",
                 "sim_time_s": max(0.0, float(timer))}
 

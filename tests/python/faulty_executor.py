@@ -3,9 +3,10 @@
 
     faulty_executor.py MODE ROAD_ID
 
-Every road is answered as passed (max BOLP 0.01, 2 simulated seconds) except the road whose
+Every road is answered, naming it by its `id`, as passed (max BOLP 0.01, 2 simulated seconds) except the road whose
 `id` is ROAD_ID, where MODE happens: `crash` (exit 3 after a line on stderr), `hang` (never
-answer), `garbage` (a line that is not JSON), `range` (max_bolp 7), `flood` (two lines), or
+answer), `garbage` (a line that is not JSON), `range` (max_bolp 7), `flood` (two lines), `late-second` (a second answer to it written only once the next road has been
+read), `wrong-id` (the answer names another road), or
 `fail` (an honest failure: max BOLP 0.9). MODE `always-crash` exits at every road. Standard
 library only.
 """
@@ -16,12 +17,17 @@ import time
 mode, bad_id = sys.argv[1], int(sys.argv[2])
 hello = json.loads(sys.stdin.readline())
 assert hello["type"] == "hello" and hello["protocol"] == "wogan-executor", hello
+assert hello["version"] == 2, hello
+late = None
 for line in sys.stdin:
     message = json.loads(line)
     if message["type"] == "bye":
         break
     assert message["type"] == "road", message
-    answer = {"max_bolp": 0.01, "outcome": "PASS", "sim_time_s": 2.0}
+    if late is not None:
+        print(json.dumps(late), flush=True)
+        late = None
+    answer = {"id": message["id"], "max_bolp": 0.01, "outcome": "PASS", "sim_time_s": 2.0}
     if mode == "always-crash" or message["id"] == bad_id:
         if mode in ("crash", "always-crash"):
             print(f"faulty executor: crashing at road {message['id']}", file=sys.stderr, flush=True)
@@ -33,8 +39,12 @@ for line in sys.stdin:
             continue
         if mode == "range":
             answer["max_bolp"] = 7
+        if mode == "wrong-id":
+            answer["id"] = message["id"] + 100
         if mode == "flood":
             print(json.dumps(answer), flush=True)
+        if mode == "late-second":
+            late = answer
         if mode == "fail":
-            answer = {"max_bolp": 0.9, "oob_side": "left", "sim_time_s": 1.5}
+            answer = {"id": message["id"], "max_bolp": 0.9, "oob_side": "left", "sim_time_s": 1.5}
     print(json.dumps(answer), flush=True)

@@ -335,6 +335,9 @@ pub enum ResultRecord {
     Driven {
         /// The input line, from 1.
         line: usize,
+        /// The input's `id`, echoed when it has one (an executor's answer names its road so).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        id: Option<serde_json::Value>,
         /// The drive.
         #[serde(flatten)]
         result: SimResult,
@@ -346,6 +349,9 @@ pub enum ResultRecord {
     Invalid {
         /// The input line, from 1.
         line: usize,
+        /// The input's `id`, echoed when it has one (an executor's answer names its road so).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        id: Option<serde_json::Value>,
         /// Always `INVALID`.
         outcome: InvalidOutcome,
         /// Why the road is invalid.
@@ -368,6 +374,9 @@ pub enum InvalidOutcome {
 pub struct VerdictRecord {
     /// The input line, from 1.
     pub line: usize,
+    /// The input's `id`, echoed when it has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub id: Option<serde_json::Value>,
     /// Whether the road is valid.
     pub valid: bool,
     /// Why not.

@@ -15,7 +15,8 @@ use crate::records::{ErrorRecord, Record};
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
-use road_sim::road::input::{parse_line, RoadInput};
+use road_sim::road::input::{parse_value, InputError, RoadInput};
+use serde_json::Value;
 use std::io::{BufRead, IsTerminal};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError};
@@ -23,6 +24,16 @@ use std::time::Duration;
 
 /// How often the loop looks at the stop flag while it waits for input (not a result's timing).
 const STOP_POLL: Duration = Duration::from_millis(50);
+
+/// Where a road came from: what its answer names it by.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoadSource {
+    /// The input line, from 1 (a value spread over several lines: its first).
+    pub line: usize,
+    /// The input object's `id`, when it has one: echoed in the answer, so that a program feeding
+    /// roads can match answers to roads.
+    pub id: Option<Value>,
+}
 
 /// What answering one input produced.
 pub enum Answer {
@@ -32,7 +43,7 @@ pub enum Answer {
     Dropped,
 }
 
-/// Answers every road of `input` with `answer(line_number, road)`, `jobs` at a time; a line that
+/// Answers every road of `input` with `answer(source, road)`, `jobs` at a time; a line that
 /// holds no road gets an `error` record and makes the status [`Status::SomeLinesBad`]. Ends early,
 /// with [`Status::Interrupted`], once `stop` is set.
 pub fn answer_each_road<F>(
@@ -44,7 +55,7 @@ pub fn answer_each_road<F>(
     answer: F,
 ) -> Result<Status>
 where
-    F: Fn(usize, &RoadInput) -> Answer + Sync,
+    F: Fn(&RoadSource, &RoadInput) -> Answer + Sync,
 {
     let pool = thread_pool(jobs)?;
     let lines = read_ahead(input, jobs.max(1) * 2);
@@ -55,9 +66,19 @@ where
             Ok(text) => text,
             Err(error) => return Some(Err(error.clone())),
         };
-        match parse_line(text, map_size_m) {
+        let value: Value = match serde_json::from_str(text) {
+            Ok(value) => value,
+            Err(error) => return Some(Err(InputError::NotJson(error.to_string()).to_string())),
+        };
+        match parse_value(&value, map_size_m) {
             Ok(RoadInput::Skip) => None,
-            Ok(road) => Some(Ok(answer(line.number, &road))),
+            Ok(road) => {
+                let source = RoadSource {
+                    line: line.number,
+                    id: value.get("id").filter(|id| !id.is_null()).cloned(),
+                };
+                Some(Ok(answer(&source, &road)))
+            }
             Err(error) => Some(Err(error.to_string())),
         }
     };

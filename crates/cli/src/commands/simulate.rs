@@ -59,7 +59,8 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
         args.driver.map_size,
         args.jobs as usize,
         &stop,
-        |line, road| {
+        |source, road| {
+            let line = source.line;
             let verdict = validator.validate(road.points().unwrap_or_default());
             match (verdict.reason, verdict.road) {
                 (None, Some(road)) => {
@@ -84,6 +85,7 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
                         .then(|| execution_data(&samples, config.oob_tolerance, max_steering_deg));
                     Answer::Record(Box::new(Record::Result(ResultRecord::Driven {
                         line,
+                        id: source.id.clone(),
                         result,
                         execution_data,
                     })))
@@ -92,6 +94,7 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
                     let reason = reason.unwrap_or(Reason::Malformed);
                     Answer::Record(Box::new(Record::Result(ResultRecord::Invalid {
                         line,
+                        id: source.id.clone(),
                         outcome: InvalidOutcome::Invalid,
                         reason,
                         message: reason.message().to_owned(),

@@ -1,10 +1,14 @@
-//! The executor protocol, version 1. wogan writes one JSON object per line, each with a `"type"`:
+//! The executor protocol, version 2. wogan writes one JSON object per line, each with a `"type"`:
 //! `hello` once when the executor starts (not answered), `road` per road (answered by exactly one
 //! line), `bye` before it closes the executor's input (not answered). An answer is one JSON object:
-//! `max_bolp` (required, in `[0, 1]`), and optionally `outcome` (`PASS`, `FAIL` or `ERROR`;
-//! derived from the tolerance when absent), `sim_time_s` (simulated seconds, charged to the
-//! execution budget; 0 when absent) and `oob_side` (`left` or `right`). Other fields are ignored,
-//! so `wogan simulate`'s `result` lines are answers.
+//! `id` (required: the road it answers) and `max_bolp` (required, in `[0, 1]`), and optionally
+//! `outcome` (`PASS`, `FAIL` or `ERROR`; derived from the tolerance when absent), `sim_time_s`
+//! (simulated seconds, charged to the execution budget; 0 when absent) and `oob_side` (`left` or
+//! `right`). Other fields are ignored, so `wogan simulate`'s `result` lines, which echo the input's
+//! `id`, are answers.
+//!
+//! Version 2 added the answer's `id`: without it, a second line for one road could be taken for the
+//! answer to the next, and every answer after it would be one road late.
 
 use road_sim::{Outcome, Point};
 use serde::Serialize;
@@ -13,7 +17,7 @@ use serde_json::Value;
 /// The protocol's name in the `hello` line.
 pub const PROTOCOL: &str = "wogan-executor";
 /// The protocol's version.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 
 /// A line wogan writes to the executor.
 #[derive(Debug, Clone, Serialize)]
@@ -58,18 +62,65 @@ pub struct Answer {
     pub oob_side: Option<road_sim::LaneSide>,
 }
 
-/// Reads one answer line; the error names the field at fault.
-pub fn parse_answer(line: &str, oob_tolerance: f64) -> Result<Answer, String> {
+/// Why an answer line is not an answer to the road asked; each names the field at fault.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum AnswerError {
+    /// The line is not JSON.
+    #[error("the answer is not JSON: {0}")]
+    NotJson(String),
+    /// The line is JSON but not an object.
+    #[error("the answer is not a JSON object")]
+    NotObject,
+    /// A field is missing, of the wrong kind or out of range.
+    #[error("{field}: {problem}")]
+    Field {
+        /// The field's name.
+        field: &'static str,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// A second answer to a road this executor had already answered.
+    #[error("it wrote more than one line for one request (a second answer to road {0})")]
+    SecondAnswer(u64),
+}
+
+fn field(field: &'static str, problem: impl Into<String>) -> AnswerError {
+    AnswerError::Field {
+        field,
+        problem: problem.into(),
+    }
+}
+
+/// Reads one answer line to road `asked`; `answered` is the road this executor answered before it,
+/// if any, so that a late second answer to it is named as such.
+pub fn parse_answer(
+    line: &str,
+    asked: usize,
+    answered: Option<usize>,
+    oob_tolerance: f64,
+) -> Result<Answer, AnswerError> {
     let value: Value =
-        serde_json::from_str(line).map_err(|e| format!("the answer is not JSON: {e}"))?;
-    let object = value
-        .as_object()
-        .ok_or_else(|| "the answer is not a JSON object".to_owned())?;
+        serde_json::from_str(line).map_err(|e| AnswerError::NotJson(e.to_string()))?;
+    let object = value.as_object().ok_or(AnswerError::NotObject)?;
+    match object.get("id").map(Value::as_u64) {
+        Some(Some(id)) if id == asked as u64 => {}
+        Some(Some(id)) if Some(id) == answered.map(|a| a as u64) => {
+            return Err(AnswerError::SecondAnswer(id))
+        }
+        Some(Some(id)) => return Err(field("id", format!("{id} is not the road asked ({asked})"))),
+        Some(None) => return Err(field("id", "not a road number")),
+        None => {
+            return Err(field(
+                "id",
+                format!("missing (version {VERSION} answers name their road)"),
+            ))
+        }
+    }
     let max_bolp = match object.get("max_bolp").map(Value::as_f64) {
         Some(Some(b)) if (0.0..=1.0).contains(&b) => b,
-        Some(Some(b)) => return Err(format!("max_bolp: {b} is outside [0, 1]")),
-        Some(None) => return Err("max_bolp: not a number".to_owned()),
-        None => return Err("max_bolp: missing".to_owned()),
+        Some(Some(b)) => return Err(field("max_bolp", format!("{b} is outside [0, 1]"))),
+        Some(None) => return Err(field("max_bolp", "not a number")),
+        None => return Err(field("max_bolp", "missing")),
     };
     let outcome = match object.get("outcome") {
         None | Some(Value::Null) if max_bolp > oob_tolerance => Outcome::Fail,
@@ -77,15 +128,21 @@ pub fn parse_answer(line: &str, oob_tolerance: f64) -> Result<Answer, String> {
         Some(Value::String(s)) if s == "PASS" => Outcome::Pass,
         Some(Value::String(s)) if s == "FAIL" => Outcome::Fail,
         Some(Value::String(s)) if s == "ERROR" => Outcome::Error,
-        Some(other) => return Err(format!("outcome: {other} is not PASS, FAIL or ERROR")),
+        Some(other) => {
+            return Err(field(
+                "outcome",
+                format!("{other} is not PASS, FAIL or ERROR"),
+            ))
+        }
     };
     let sim_time_s = match object.get("sim_time_s") {
         None | Some(Value::Null) => 0.0,
         Some(v) => match v.as_f64() {
             Some(t) if t.is_finite() && t >= 0.0 => t,
             _ => {
-                return Err(format!(
-                    "sim_time_s: {v} is not a finite number of seconds >= 0"
+                return Err(field(
+                    "sim_time_s",
+                    format!("{v} is not a finite number of seconds >= 0"),
                 ))
             }
         },
@@ -94,7 +151,12 @@ pub fn parse_answer(line: &str, oob_tolerance: f64) -> Result<Answer, String> {
         None | Some(Value::Null) => None,
         Some(Value::String(s)) if s == "left" => Some(road_sim::LaneSide::Left),
         Some(Value::String(s)) if s == "right" => Some(road_sim::LaneSide::Right),
-        Some(other) => return Err(format!("oob_side: {other} is not \"left\" or \"right\"")),
+        Some(other) => {
+            return Err(field(
+                "oob_side",
+                format!("{other} is not \"left\" or \"right\""),
+            ))
+        }
     };
     Ok(Answer {
         max_bolp,
@@ -110,28 +172,52 @@ mod tests {
 
     #[test]
     fn answers_are_checked_field_by_field() {
-        let a = parse_answer(r#"{"max_bolp": 0.9}"#, 0.85).unwrap();
+        let a = parse_answer(r#"{"id": 3, "max_bolp": 0.9}"#, 3, None, 0.85).unwrap();
         assert_eq!(
             (a.outcome, a.sim_time_s, a.oob_side),
             (Outcome::Fail, 0.0, None)
         );
-        let a = parse_answer(r#"{"max_bolp": 0.5, "outcome": "ERROR", "sim_time_s": 7.5, "oob_side": "right", "x": 1}"#, 0.85).unwrap();
+        let a = parse_answer(r#"{"id": 3, "max_bolp": 0.5, "outcome": "ERROR", "sim_time_s": 7.5, "oob_side": "right", "x": 1}"#, 3, None, 0.85).unwrap();
         assert_eq!(a.outcome, Outcome::Error);
         assert_eq!(a.oob_side, Some(road_sim::LaneSide::Right));
         // `wogan simulate`'s answers are answers.
-        let a = parse_answer(r#"{"type":"result","line":1,"outcome":"PASS","reason":null,"max_bolp":1e-14,"sim_time_s":6.5}"#, 0.85).unwrap();
+        let a = parse_answer(r#"{"type":"result","line":2,"id":3,"outcome":"PASS","reason":null,"max_bolp":1e-14,"sim_time_s":6.5}"#, 3, None, 0.85).unwrap();
         assert_eq!((a.outcome, a.sim_time_s), (Outcome::Pass, 6.5));
         for (line, says) in [
             ("nope", "not JSON"),
             ("[1]", "not a JSON object"),
-            ("{}", "max_bolp: missing"),
-            (r#"{"max_bolp": 1.5}"#, "outside [0, 1]"),
-            (r#"{"max_bolp": "high"}"#, "max_bolp: not a number"),
-            (r#"{"max_bolp": 0.1, "outcome": "MAYBE"}"#, "outcome:"),
-            (r#"{"max_bolp": 0.1, "sim_time_s": -1}"#, "sim_time_s:"),
-            (r#"{"max_bolp": 0.1, "oob_side": "up"}"#, "oob_side:"),
+            (
+                r#"{"max_bolp": 0.1}"#,
+                "id: missing (version 2 answers name their road)",
+            ),
+            (r#"{"id": "3", "max_bolp": 0.1}"#, "id: not a road number"),
+            (
+                r#"{"id": 4, "max_bolp": 0.1}"#,
+                "id: 4 is not the road asked (3)",
+            ),
+            (
+                r#"{"id": 2, "max_bolp": 0.1}"#,
+                "more than one line for one request (a second answer to road 2)",
+            ),
+            (r#"{"id": 3}"#, "max_bolp: missing"),
+            (r#"{"id": 3, "max_bolp": 1.5}"#, "outside [0, 1]"),
+            (r#"{"id": 3, "max_bolp": "high"}"#, "max_bolp: not a number"),
+            (
+                r#"{"id": 3, "max_bolp": 0.1, "outcome": "MAYBE"}"#,
+                "outcome:",
+            ),
+            (
+                r#"{"id": 3, "max_bolp": 0.1, "sim_time_s": -1}"#,
+                "sim_time_s:",
+            ),
+            (
+                r#"{"id": 3, "max_bolp": 0.1, "oob_side": "up"}"#,
+                "oob_side:",
+            ),
         ] {
-            let error = parse_answer(line, 0.85).unwrap_err();
+            let error = parse_answer(line, 3, Some(2), 0.85)
+                .unwrap_err()
+                .to_string();
             assert!(error.contains(says), "{line}: {error}");
         }
     }

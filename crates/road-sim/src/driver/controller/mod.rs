@@ -2,7 +2,8 @@
 //! ...) drives wogan's car. At each control step the driver writes what a lane keeper sees (one
 //! [`protocol`] line) and applies the steering, throttle and brake read back. Controllers are
 //! started as drives need them, one per worker, and reused across drives; a controller that fails
-//! a step (ends, answers late, writes garbage or a number out of range) is killed and reaped, the
+//! a step (ends, answers late, writes garbage, a number out of range, a reply to another step or a
+//! second reply) is killed and reaped, the
 //! drive ends as `ERROR` with the reason and the tail of its stderr ([`Driver::failure`]), and the
 //! next drive starts a new one.
 
@@ -91,7 +92,14 @@ pub struct ControllerConfig {
     pub command: String,
     /// Its settings.
     pub params: ControllerParams,
-    idle: Arc<Mutex<Vec<ChildProcess>>>,
+    idle: Arc<Mutex<Vec<Controller>>>,
+}
+
+/// A running controller and the last step it replied to (to name a late second reply to it).
+#[derive(Debug)]
+struct Controller {
+    process: ChildProcess,
+    answered: Option<u64>,
 }
 
 impl ControllerConfig {
@@ -108,7 +116,8 @@ impl ControllerConfig {
     pub fn build(&self) -> ControllerDriver {
         ControllerDriver {
             config: self.clone(),
-            process: None,
+            controller: None,
+            step: 0,
             failure: None,
             lane: Vec::new(),
             max_steering_rad: 0.0,
@@ -127,7 +136,9 @@ impl ControllerConfig {
 /// The driver of one drive.
 pub struct ControllerDriver {
     config: ControllerConfig,
-    process: Option<ChildProcess>,
+    controller: Option<Controller>,
+    /// The number of the last step sent in this drive.
+    step: u64,
     failure: Option<String>,
     /// The right lane's centre.
     lane: Vec<Point>,
@@ -144,9 +155,9 @@ static NEVER: AtomicBool = AtomicBool::new(false);
 impl ControllerDriver {
     fn fail(&mut self, what: String) {
         let stderr = self
-            .process
+            .controller
             .take()
-            .map(|p| p.stderr_tail())
+            .map(|c| c.process.stderr_tail())
             .unwrap_or_default();
         let mut reason = format!("the controller: {what}");
         if !stderr.is_empty() {
@@ -202,6 +213,7 @@ impl ControllerDriver {
             })
         });
         Message::Step {
+            step: self.step,
             t: o.time_s,
             speed_mps: car.speed_mps,
             x: car.position[0],
@@ -228,6 +240,7 @@ impl Driver for ControllerDriver {
         self.lane = road.right_lane_centre();
         self.max_steering_rad = vehicle.max_steering_rad;
         self.window = 0;
+        self.step = 0;
         if let Some((_, _, scene)) = &mut self.camera {
             *scene = Some(RoadScene::new(road));
         }
@@ -237,8 +250,8 @@ impl Driver for ControllerDriver {
             .lock()
             .unwrap_or_else(|p| p.into_inner())
             .pop();
-        let process = match idle {
-            Some(process) => Ok(process),
+        let controller = match idle {
+            Some(controller) => Ok(controller),
             None => {
                 let hello = Message::Hello {
                     protocol: PROTOCOL,
@@ -247,11 +260,16 @@ impl Driver for ControllerDriver {
                     control_hz: self.config.params.control_hz,
                     camera: self.config.params.camera,
                 };
-                ChildProcess::start(&self.config.command, &hello, &Message::Bye)
+                ChildProcess::start(&self.config.command, &hello, &Message::Bye).map(|process| {
+                    Controller {
+                        process,
+                        answered: None,
+                    }
+                })
             }
         };
-        match process {
-            Ok(process) => self.process = Some(process),
+        match controller {
+            Ok(controller) => self.controller = Some(controller),
             Err(fault) => return self.fail(fault.to_string()),
         }
         let road_line = Message::Road {
@@ -260,7 +278,7 @@ impl Driver for ControllerDriver {
             speed_limit_mps,
             max_steering_rad: self.max_steering_rad,
         };
-        let sent = self.process.as_mut().map(|p| p.send(&road_line));
+        let sent = self.controller.as_mut().map(|c| c.process.send(&road_line));
         if let Some(Err(fault)) = sent {
             self.fail(fault.to_string());
         }
@@ -272,17 +290,24 @@ impl Driver for ControllerDriver {
             throttle: 0.0,
             brake: 1.0,
         };
-        if self.failure.is_some() || self.process.is_none() {
+        if self.failure.is_some() || self.controller.is_none() {
             return failed;
         }
+        self.step += 1;
         let step = self.step_message(observation);
         let timeout = Duration::from_secs_f64(self.config.params.step_timeout_s);
-        let answered = self
-            .process
-            .as_mut()
-            .map(|p| p.answer(&step, timeout, &NEVER));
+        let asked = self.step;
+        let answered = self.controller.as_mut().map(|c| {
+            c.process.answer(&step, timeout, &NEVER).map(|line| {
+                let reply = parse_reply(&line, asked, c.answered);
+                if reply.is_ok() {
+                    c.answered = Some(asked);
+                }
+                reply
+            })
+        });
         let reply = match answered {
-            Some(Ok(line)) => parse_reply(&line),
+            Some(Ok(reply)) => reply.map_err(|e| e.to_string()),
             // The process is stopping (Ctrl-C): brake; the drive is cut short, not failed.
             Some(Err(Fault::Stopped)) => {
                 return Command {
@@ -316,13 +341,13 @@ impl Drop for ControllerDriver {
     fn drop(&mut self) {
         // A controller that drove well ends its drive and waits for the next; one that failed
         // was dropped (killed and reaped) when it failed.
-        if let Some(mut process) = self.process.take() {
-            if process.send(&Message::End).is_ok() {
+        if let Some(mut controller) = self.controller.take() {
+            if controller.process.send(&Message::End).is_ok() {
                 self.config
                     .idle
                     .lock()
                     .unwrap_or_else(|p| p.into_inner())
-                    .push(process);
+                    .push(controller);
             }
         }
     }

@@ -1,10 +1,13 @@
-//! The controller protocol, version 1: what wogan writes to a controller process and what it reads
+//! The controller protocol, version 2: what wogan writes to a controller process and what it reads
 //! back. Every line wogan writes is one JSON object with a `"type"`: `hello` once when the
-//! controller starts, `road` when a drive begins, `step` per control step, `end` when a drive
-//! ends, `bye` before its input closes. Only `step` is answered, by exactly one line
-//! `{"steering": s, "throttle": t, "brake": b}`: steering in `[-1, 1]` of the car's largest
-//! steering angle, positive to the left; throttle and brake in `[0, 1]`. docs/reference.md has the
-//! specification with a full exchange.
+//! controller starts, `road` when a drive begins, `step` per control step (numbered from 1 in each
+//! drive), `end` when a drive ends, `bye` before its input closes. Only `step` is answered, by
+//! exactly one line `{"step": n, "steering": s, "throttle": t, "brake": b}`: the step it answers,
+//! steering in `[-1, 1]` of the car's largest steering angle, positive to the left; throttle and
+//! brake in `[0, 1]`. docs/reference.md has the specification with a full exchange.
+//!
+//! Version 2 added the step's number to both lines: without it, a second reply to one step could
+//! pass for the reply to the next, and the car would be steered one step late from then on.
 
 use crate::road::Point;
 use serde::Serialize;
@@ -13,7 +16,7 @@ use serde_json::Value;
 /// The protocol's name in the `hello` line.
 pub const PROTOCOL: &str = "wogan-controller";
 /// The protocol's version.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 
 /// The camera frame of a step, when asked for: gray values row by row, top row first.
 #[derive(Debug, Clone, Serialize)]
@@ -56,6 +59,8 @@ pub enum Message<'a> {
     },
     /// One control step: what a lane keeper sees. Answered by one command line.
     Step {
+        /// The step's number in the drive, from 1; the reply names it.
+        step: u64,
         /// Simulated time since the drive began, seconds.
         t: f64,
         /// Speed over ground, metres per second.
@@ -93,19 +98,58 @@ pub struct Reply {
     pub brake: f64,
 }
 
-/// Reads one reply line; the error names the field at fault.
-pub fn parse_reply(line: &str) -> Result<Reply, String> {
+/// Why a reply line is not a reply to the step asked; each names the field at fault.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReplyError {
+    /// The line is not JSON.
+    #[error("the reply is not JSON: {0}")]
+    NotJson(String),
+    /// The line is JSON but not an object.
+    #[error("the reply is not a JSON object")]
+    NotObject,
+    /// A field is missing, of the wrong kind or out of range.
+    #[error("{field}: {problem}")]
+    Field {
+        /// The field's name.
+        field: &'static str,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// A second reply to a step this controller had already answered.
+    #[error("it wrote more than one line for one request (a second reply to step {0})")]
+    SecondReply(u64),
+}
+
+/// Reads one reply line to step `asked`; `answered` is the step this controller replied to before
+/// it, if any (in this drive or the one before), so that a late second reply is named as such.
+pub fn parse_reply(line: &str, asked: u64, answered: Option<u64>) -> Result<Reply, ReplyError> {
     let value: Value =
-        serde_json::from_str(line).map_err(|e| format!("the reply is not JSON: {e}"))?;
-    let object = value
-        .as_object()
-        .ok_or_else(|| "the reply is not a JSON object".to_owned())?;
-    let field = |name: &str, lo: f64| -> Result<f64, String> {
+        serde_json::from_str(line).map_err(|e| ReplyError::NotJson(e.to_string()))?;
+    let object = value.as_object().ok_or(ReplyError::NotObject)?;
+    let problem = |field: &'static str, problem: String| ReplyError::Field { field, problem };
+    match object.get("step").map(Value::as_u64) {
+        Some(Some(step)) if step == asked => {}
+        Some(Some(step)) if Some(step) == answered => return Err(ReplyError::SecondReply(step)),
+        Some(Some(step)) => {
+            return Err(problem(
+                "step",
+                format!("{step} is not the step asked ({asked})"),
+            ))
+        }
+        Some(None) => return Err(problem("step", "not a step number".to_owned())),
+        None => {
+            return Err(problem(
+                "step",
+                format!("missing (version {VERSION} replies name their step)"),
+            ))
+        }
+    }
+    let field = |name: &'static str, lo: f64| -> Result<f64, ReplyError> {
         match object.get(name).map(Value::as_f64) {
             Some(Some(v)) if (lo..=1.0).contains(&v) => Ok(v),
-            Some(Some(v)) => Err(format!("{name}: {v} is outside [{lo}, 1]")),
-            Some(None) => Err(format!("{name}: not a number")),
-            None => Err(format!("{name}: missing")),
+            Some(Some(v)) => Err(problem(name, format!("{v} is outside [{lo}, 1]"))),
+            Some(None) => Err(problem(name, "not a number".to_owned())),
+            None => Err(problem(name, "missing".to_owned())),
         }
     };
     Ok(Reply {
@@ -121,30 +165,54 @@ mod tests {
 
     #[test]
     fn replies_are_checked_field_by_field() {
-        let r =
-            parse_reply(r#"{"steering": -0.5, "throttle": 1, "brake": 0, "note": "x"}"#).unwrap();
+        let r = parse_reply(
+            r#"{"step": 3, "steering": -0.5, "throttle": 1, "brake": 0, "note": "x"}"#,
+            3,
+            Some(2),
+        )
+        .unwrap();
         assert_eq!((r.steering, r.throttle, r.brake), (-0.5, 1.0, 0.0));
         for (line, says) in [
             ("nope", "not JSON"),
             ("[]", "not a JSON object"),
-            (r#"{"throttle": 0, "brake": 0}"#, "steering: missing"),
             (
-                r#"{"steering": 2, "throttle": 0, "brake": 0}"#,
+                r#"{"steering": 0, "throttle": 0, "brake": 0}"#,
+                "step: missing (version 2 replies name their step)",
+            ),
+            (
+                r#"{"step": 2, "steering": 0, "throttle": 0, "brake": 0}"#,
+                "more than one line for one request (a second reply to step 2)",
+            ),
+            (
+                r#"{"step": 9, "steering": 0, "throttle": 0, "brake": 0}"#,
+                "step: 9 is not the step asked (3)",
+            ),
+            (
+                r#"{"step": -3, "steering": 0, "throttle": 0, "brake": 0}"#,
+                "step: not a step number",
+            ),
+            (
+                r#"{"step": 3, "throttle": 0, "brake": 0}"#,
+                "steering: missing",
+            ),
+            (
+                r#"{"step": 3, "steering": 2, "throttle": 0, "brake": 0}"#,
                 "steering: 2 is outside [-1, 1]",
             ),
             (
-                r#"{"steering": 0, "throttle": -0.1, "brake": 0}"#,
+                r#"{"step": 3, "steering": 0, "throttle": -0.1, "brake": 0}"#,
                 "throttle: -0.1 is outside [0, 1]",
             ),
             (
-                r#"{"steering": 0, "throttle": 0, "brake": "hard"}"#,
+                r#"{"step": 3, "steering": 0, "throttle": 0, "brake": "hard"}"#,
                 "brake: not a number",
             ),
         ] {
-            let error = parse_reply(line).unwrap_err();
+            let error = parse_reply(line, 3, Some(2)).unwrap_err().to_string();
             assert!(error.contains(says), "{line}: {error}");
         }
         let step = Message::Step {
+            step: 11,
             t: 0.5,
             speed_mps: 3.0,
             x: 1.0,
@@ -156,7 +224,10 @@ mod tests {
             camera: None,
         };
         let text = serde_json::to_string(&step).unwrap();
-        assert!(text.starts_with(r#"{"type":"step","t":0.5,"#), "{text}");
+        assert!(
+            text.starts_with(r#"{"type":"step","step":11,"t":0.5,"#),
+            "{text}"
+        );
         assert!(!text.contains("camera"));
     }
 }
