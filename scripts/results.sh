@@ -441,9 +441,11 @@ def niches_section():
     out("`--preset sbst-niches` (A) against `--preset sbst` and the paper's WOGAN (B) under the "
         "competition's budgets (`ALGORITHMS=\"preset-sbst-niches preset-sbst wogan\" "
         "scripts/sbst_budget_runs.sh ORACLE \"$(seq -s ' ' 1 20)\" 1h 2h`): means per run, "
-        "Mann–Whitney U, two-sided, from `wogan report A --vs B --table`. The SBST 2022 tools' "
-        "figures are in the field's section; how the settings were chosen: "
-        "docs/experiments/2026-11-26-niches.md.")
+        "Mann–Whitney U, two-sided, from `wogan report A --vs B --table`; then against each SBST "
+        "2022 tool whose runs are on the machine (`PEERS_HOME=... scripts/peers/campaign.sh "
+        "ORACLE \"1 2 3\" TOOLS`; all of their figures are in the field's section). How the "
+        "settings were chosen: "
+        "docs/experiments/2026-11-26-niches.md and 2026-11-26-niche-roads.md.")
     for oracle in ORACLES:
         niches = runs_of(f"target/sbst/{oracle}.preset-sbst-niches")
         out()
@@ -461,6 +463,14 @@ def niches_section():
         for tag, name in OURS[:2]:
             paths = [p for p in runs_of(f"target/sbst/{oracle}.{tag}")
                      if p.rsplit(".", 2)[-2] in seeds]
+            if not paths:
+                continue
+            rows = compared(niches, paths, NICHES_COMPARED)
+            out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in NICHES_COMPARED) + " |")
+        # The peers whose runs are on this machine (scripts/peers/campaign.sh), each against A.
+        for tool, name in PEERS:
+            paths = sorted(os.path.dirname(p) for p in
+                           glob.glob(f"target/peers/{oracle}.{tool}.*/summary.json"))
             if not paths:
                 continue
             rows = compared(niches, paths, NICHES_COMPARED)

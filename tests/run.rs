@@ -198,12 +198,13 @@ fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_stil
     assert_eq!(config["road"]["placement"], "bottom-centre");
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.05);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.25);
-    // With niches: in the DAVE-2 setup on the BeamNG.AI setup's roads, filled by each driver's
-    // failures.
-    for (oracle, level) in [("beamng-ai-proxy", 0.85), ("dave2-proxy", 0.1)] {
+    // With niches: in the BeamNG.AI setup on roads of 22 values, in the DAVE-2 setup on the
+    // BeamNG.AI `sbst` roads, filled by each driver's failures.
+    for (oracle, level, points) in [("beamng-ai-proxy", 0.85, 22), ("dave2-proxy", 0.1, 16)] {
         let config = config_of(&["--oracle", oracle, "--preset", "sbst-niches"]);
         assert_eq!(config["preset"], "sbst-niches");
-        assert_eq!(config["curvature_points"], 16);
+        assert_eq!(config["curvature_points"], points, "{oracle}");
+        assert_eq!(config["road"]["step_m"], 10.0);
         assert_eq!(config["road"]["placement"], "fitted");
         let niches = &config["search"]["wogan"]["niches"];
         assert!(niches["quota"].as_u64().unwrap() > 0, "{oracle}");

@@ -20,7 +20,8 @@ pub enum SearchPreset {
     Sbst,
     /// `sbst` with niches: failures gathered in a few regions far apart by road shape, each
     /// exploited in turn, for failures more varied as whole roads (the paper's diversity) at the
-    /// cost of some distinct ones; in the DAVE-2 setup on the BeamNG.AI setup's longer roads
+    /// cost of some distinct ones; in the BeamNG.AI setup on longer roads (22 values) with a closer
+    /// novelty distance, in the DAVE-2 setup on the BeamNG.AI `sbst` roads
     /// (docs/results.md, "Niches").
     SbstNiches,
 }
@@ -77,6 +78,12 @@ const BEAMNG_AI_ROADS: PresetRoads = PresetRoads {
     placement: RoadPlacement::Fitted,
 };
 
+/// The BeamNG.AI setup's roads with niches: 22 curvature values 10 m apart (220 m), fitted.
+const BEAMNG_AI_NICHE_ROADS: PresetRoads = PresetRoads {
+    curvature_points: 22,
+    ..BEAMNG_AI_ROADS
+};
+
 impl SbstSettings {
     /// The settings chosen for `setup` (docs/experiments/2026-11-25-sbst-field.md and
     /// 2026-11-25-sbst-diversity.md).
@@ -107,13 +114,19 @@ impl SbstSettings {
         }
     }
 
-    /// The settings `sbst-niches` chose for `setup` (docs/experiments/2026-11-26-niches.md).
+    /// The settings `sbst-niches` chose for `setup` (docs/experiments/2026-11-26-niches.md and
+    /// 2026-11-26-niche-roads.md).
     fn with_niches(setup: CompetitionSetup) -> Self {
         match setup {
             // Niches of 100 failures about three of a run's, seeds 3 rad (RMS) apart; mutants
             // keep a niche productive, and a search between niches that finds no far seed in 40
-            // tests settles for the farthest failure it met, so the budget still exploits.
+            // tests settles for the farthest failure it met, so the budget still exploits. Longer
+            // roads swing further (the niches' seeds lie further apart as whole roads), at the
+            // same step the bends around an exit are as varied; a closer novelty distance fills
+            // each niche sooner, winning back the tests longer roads cost.
             CompetitionSetup::BeamNgAi => Self {
+                roads: BEAMNG_AI_NICHE_ROADS,
+                novelty_distance: 0.075,
                 mutation_share: 0.75,
                 niches: NicheConfig {
                     quota: 100,
@@ -122,11 +135,12 @@ impl SbstSettings {
                     patience: 40,
                     min_fitness: 0.0,
                 },
-                ..Self::of(setup)
             },
             // The paper's 75 m roads all fail alike on this driver (out of one long right-hand
             // bend), so no niche finds room: the longer roads give the bends before the exit
-            // room to differ. Seeds nearer than in the BeamNG.AI setup: fewer far regions fail.
+            // room to differ (longer still, of more values or longer steps, adds little here:
+            // such roads cost tests at 25 km/h). Seeds nearer than in the BeamNG.AI setup: fewer
+            // far regions fail.
             CompetitionSetup::Dave2 => Self {
                 roads: BEAMNG_AI_ROADS,
                 mutation_share: 0.5,
@@ -217,20 +231,30 @@ mod tests {
     }
 
     #[test]
-    fn sbst_niches_adds_niches_to_sbst_and_in_the_dave2_setup_its_longer_roads() {
-        for driver in [DriverKind::BeamNgAiProxy, DriverKind::Dave2Proxy] {
+    fn sbst_niches_adds_niches_to_sbst_on_roads_of_its_own() {
+        // (driver, the curvature values of its roads, its novelty distance)
+        for (driver, points, novelty) in [
+            (DriverKind::BeamNgAiProxy, 22, 0.075),
+            (DriverKind::Dave2Proxy, 16, 0.05),
+        ] {
             let (mut sbst, mut niches) = (RunConfig::default(), RunConfig::default());
             SearchPreset::Sbst.apply(&mut sbst, driver);
             SearchPreset::SbstNiches.apply(&mut niches, driver);
             assert!(niches.wogan.niches.quota > 0, "{driver}");
             assert!(niches.wogan.niches.distance > niches.wogan.niches.radius);
             assert!(niches.wogan.mutation.share > sbst.wogan.mutation.share);
-            assert_eq!(niches.wogan.novelty, sbst.wogan.novelty);
+            assert_eq!(niches.wogan.novelty.distance, novelty, "{driver}");
             niches.wogan.niches = sbst.wogan.niches.clone();
             niches.wogan.mutation.share = sbst.wogan.mutation.share;
+            niches.wogan.novelty = sbst.wogan.novelty.clone();
             assert_eq!(niches, sbst, "{driver}");
+            let roads = SearchPreset::SbstNiches.roads(driver);
+            assert_eq!(roads.curvature_points, points, "{driver}");
             assert_eq!(
-                SearchPreset::SbstNiches.roads(driver),
+                PresetRoads {
+                    curvature_points: 16,
+                    ..roads
+                },
                 SearchPreset::Sbst.roads(DriverKind::BeamNgAiProxy)
             );
         }
