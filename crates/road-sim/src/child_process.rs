@@ -1,8 +1,10 @@
 //! A program wogan talks to in JSON lines (an executor of roads, a controller of the car): started
 //! with `sh -c "exec COMMAND"` (so that killing it kills the program, not a shell), spoken to one
 //! line at a time, read by a thread so that a deadline and a stop flag are honoured while it works,
-//! its stderr's last lines kept for the message when it fails. Dropping it writes its farewell
-//! line, closes its input, and kills and reaps it if it does not end at once: no zombie.
+//! its stderr's last lines kept for the message when it fails. Requests are numbered and answers
+//! name the request they answer ([`Echo`]), so that a second answer to one request is never taken
+//! for the answer to the next. Dropping it writes its farewell line, closes its input, and kills
+//! and reaps it if it does not end at once: no zombie.
 
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -62,6 +64,35 @@ impl std::fmt::Display for Fault {
     }
 }
 
+/// What the request number an answer carries says of it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Echo {
+    /// It answers the request asked.
+    Asked,
+    /// It answers the request answered before: a second answer to that one.
+    Repeat(u64),
+    /// It names another request.
+    Other(u64),
+    /// Its number is not a whole number >= 0.
+    NotANumber,
+    /// It has no number.
+    Missing,
+}
+
+impl Echo {
+    /// Reads the number `field` holds (`None`: the answer has no such field) against the request
+    /// `asked` and the one `answered` before it.
+    pub fn of(field: Option<&serde_json::Value>, asked: u64, answered: Option<u64>) -> Self {
+        match field.map(serde_json::Value::as_u64) {
+            Some(Some(n)) if n == asked => Echo::Asked,
+            Some(Some(n)) if Some(n) == answered => Echo::Repeat(n),
+            Some(Some(n)) => Echo::Other(n),
+            Some(None) => Echo::NotANumber,
+            None => Echo::Missing,
+        }
+    }
+}
+
 /// A running program.
 pub struct ChildProcess {
     child: Child,
@@ -69,6 +100,8 @@ pub struct ChildProcess {
     answers: Receiver<Result<String, String>>,
     stderr_tail: Arc<Mutex<VecDeque<String>>>,
     farewell: Option<Vec<u8>>,
+    /// The number of the last request answered, for [`Echo::Repeat`].
+    answered: Option<u64>,
 }
 
 impl std::fmt::Debug for ChildProcess {
@@ -141,6 +174,7 @@ impl ChildProcess {
             answers,
             stderr_tail,
             farewell: Some(line_of(farewell)?),
+            answered: None,
         };
         process.send(hello)?;
         Ok(process)
@@ -160,9 +194,28 @@ impl ChildProcess {
             .map_err(|_| Fault::Ended)
     }
 
+    /// Sends `request`, number `number`, waits for its one answer line, at most `timeout`, giving
+    /// up when `stop` is set, and reads it with `read(line, the number of the request answered
+    /// before)`; a line read without error makes `number` the request answered.
+    pub fn answer<T: Serialize, R, E>(
+        &mut self,
+        request: &T,
+        number: u64,
+        timeout: Duration,
+        stop: &AtomicBool,
+        read: impl FnOnce(&str, Option<u64>) -> Result<R, E>,
+    ) -> Result<Result<R, E>, Fault> {
+        let line = self.answer_line(request, timeout, stop)?;
+        let read = read(&line, self.answered);
+        if read.is_ok() {
+            self.answered = Some(number);
+        }
+        Ok(read)
+    }
+
     /// Sends `request` and waits for its one answer line, at most `timeout`, giving up when
     /// `stop` is set.
-    pub fn answer<T: Serialize>(
+    fn answer_line<T: Serialize>(
         &mut self,
         request: &T,
         timeout: Duration,
@@ -224,5 +277,24 @@ impl Drop for ChildProcess {
         }
         let _ = self.child.kill();
         let _ = self.child.wait();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn an_echoed_number_is_the_request_asked_the_one_before_or_another() {
+        let echo = |v: serde_json::Value| Echo::of(v.get("n"), 5, Some(4));
+        assert_eq!(echo(json!({"n": 5})), Echo::Asked);
+        assert_eq!(echo(json!({"n": 4})), Echo::Repeat(4));
+        assert_eq!(echo(json!({"n": 9})), Echo::Other(9));
+        assert_eq!(echo(json!({"n": -1})), Echo::NotANumber);
+        assert_eq!(echo(json!({"n": "5"})), Echo::NotANumber);
+        assert_eq!(echo(json!({})), Echo::Missing);
+        // Nothing answered yet: any other number is another request's.
+        assert_eq!(Echo::of(json!({"n": 4}).get("n"), 5, None), Echo::Other(4));
     }
 }

@@ -10,6 +10,7 @@
 //! Version 2 added the answer's `id`: without it, a second line for one road could be taken for the
 //! answer to the next, and every answer after it would be one road late.
 
+use road_sim::child_process::Echo;
 use road_sim::{Outcome, Point};
 use serde::Serialize;
 use serde_json::Value;
@@ -95,21 +96,21 @@ fn field(field: &'static str, problem: impl Into<String>) -> AnswerError {
 /// if any, so that a late second answer to it is named as such.
 pub fn parse_answer(
     line: &str,
-    asked: usize,
-    answered: Option<usize>,
+    asked: u64,
+    answered: Option<u64>,
     oob_tolerance: f64,
 ) -> Result<Answer, AnswerError> {
     let value: Value =
         serde_json::from_str(line).map_err(|e| AnswerError::NotJson(e.to_string()))?;
     let object = value.as_object().ok_or(AnswerError::NotObject)?;
-    match object.get("id").map(Value::as_u64) {
-        Some(Some(id)) if id == asked as u64 => {}
-        Some(Some(id)) if Some(id) == answered.map(|a| a as u64) => {
-            return Err(AnswerError::SecondAnswer(id))
+    match Echo::of(object.get("id"), asked, answered) {
+        Echo::Asked => {}
+        Echo::Repeat(id) => return Err(AnswerError::SecondAnswer(id)),
+        Echo::Other(id) => {
+            return Err(field("id", format!("{id} is not the road asked ({asked})")))
         }
-        Some(Some(id)) => return Err(field("id", format!("{id} is not the road asked ({asked})"))),
-        Some(None) => return Err(field("id", "not a road number")),
-        None => {
+        Echo::NotANumber => return Err(field("id", "not a road number")),
+        Echo::Missing => {
             return Err(field(
                 "id",
                 format!("missing (version {VERSION} answers name their road)"),

@@ -40,14 +40,8 @@ pub struct ExecutorSut<'a> {
     pub stop: &'a AtomicBool,
     /// Failed roads in a row.
     pub streak: &'a FailureStreak,
-    idle: Mutex<Vec<Executor>>,
+    idle: Mutex<Vec<ChildProcess>>,
     roads_sent: AtomicUsize,
-}
-
-/// A running executor and the last road it answered (to name a late second answer to it).
-struct Executor {
-    process: ChildProcess,
-    answered: Option<usize>,
 }
 
 impl<'a> ExecutorSut<'a> {
@@ -87,26 +81,25 @@ impl<'a> ExecutorSut<'a> {
     /// is none (`None`: the run is being stopped). An executor that failed is killed, not reused.
     fn ask(&self, id: usize, road_points: &[road_sim::Point]) -> Result<Answer, Option<String>> {
         let idle = self.idle.lock().unwrap_or_else(|p| p.into_inner()).pop();
-        let mut executor = match idle {
-            Some(executor) => executor,
-            None => Executor {
-                process: ChildProcess::start(&self.settings.command, &self.hello(), &Request::Bye)
-                    .map_err(|fault| Some(format!("road {id}: the executor: {fault}")))?,
-                answered: None,
-            },
+        let mut process = match idle {
+            Some(process) => process,
+            None => ChildProcess::start(&self.settings.command, &self.hello(), &Request::Bye)
+                .map_err(|fault| Some(format!("road {id}: the executor: {fault}")))?,
         };
         let request = Request::Road { id, road_points };
-        let answered = executor
-            .process
-            .answer(&request, self.settings.timeout, self.stop)
-            .map(|line| parse_answer(&line, id, executor.answered, self.sim.oob_tolerance));
+        let answered = process.answer(
+            &request,
+            id as u64,
+            self.settings.timeout,
+            self.stop,
+            |line, answered| parse_answer(line, id as u64, answered, self.sim.oob_tolerance),
+        );
         match answered {
             Ok(Ok(answer)) => {
-                executor.answered = Some(id);
                 self.idle
                     .lock()
                     .unwrap_or_else(|p| p.into_inner())
-                    .push(executor);
+                    .push(process);
                 Ok(answer)
             }
             Err(Fault::Stopped) => Err(None),
@@ -116,7 +109,7 @@ impl<'a> ExecutorSut<'a> {
                     Err(fault) => fault.to_string(),
                     Ok(Ok(_)) => String::new(),
                 };
-                let stderr = executor.process.stderr_tail();
+                let stderr = process.stderr_tail();
                 let mut reason = format!("road {id}: the executor: {problem}");
                 if !stderr.is_empty() {
                     reason.push_str(&format!("; its stderr ended with:\n{stderr}"));

@@ -3,9 +3,8 @@
 //! [`protocol`] line) and applies the steering, throttle and brake read back. Controllers are
 //! started as drives need them, one per worker, and reused across drives; a controller that fails
 //! a step (ends, answers late, writes garbage, a number out of range, a reply to another step or a
-//! second reply) is killed and reaped, the
-//! drive ends as `ERROR` with the reason and the tail of its stderr ([`Driver::failure`]), and the
-//! next drive starts a new one.
+//! second reply) is killed and reaped, the drive ends as `ERROR` with the reason and the tail of
+//! its stderr ([`Driver::failure`]), and the next drive starts a new one.
 
 pub mod protocol;
 
@@ -92,14 +91,7 @@ pub struct ControllerConfig {
     pub command: String,
     /// Its settings.
     pub params: ControllerParams,
-    idle: Arc<Mutex<Vec<Controller>>>,
-}
-
-/// A running controller and the last step it replied to (to name a late second reply to it).
-#[derive(Debug)]
-struct Controller {
-    process: ChildProcess,
-    answered: Option<u64>,
+    idle: Arc<Mutex<Vec<ChildProcess>>>,
 }
 
 impl ControllerConfig {
@@ -116,7 +108,7 @@ impl ControllerConfig {
     pub fn build(&self) -> ControllerDriver {
         ControllerDriver {
             config: self.clone(),
-            controller: None,
+            process: None,
             step: 0,
             failure: None,
             lane: Vec::new(),
@@ -136,7 +128,7 @@ impl ControllerConfig {
 /// The driver of one drive.
 pub struct ControllerDriver {
     config: ControllerConfig,
-    controller: Option<Controller>,
+    process: Option<ChildProcess>,
     /// The number of the last step sent in this drive.
     step: u64,
     failure: Option<String>,
@@ -155,9 +147,9 @@ static NEVER: AtomicBool = AtomicBool::new(false);
 impl ControllerDriver {
     fn fail(&mut self, what: String) {
         let stderr = self
-            .controller
+            .process
             .take()
-            .map(|c| c.process.stderr_tail())
+            .map(|p| p.stderr_tail())
             .unwrap_or_default();
         let mut reason = format!("the controller: {what}");
         if !stderr.is_empty() {
@@ -250,8 +242,8 @@ impl Driver for ControllerDriver {
             .lock()
             .unwrap_or_else(|p| p.into_inner())
             .pop();
-        let controller = match idle {
-            Some(controller) => Ok(controller),
+        let process = match idle {
+            Some(process) => Ok(process),
             None => {
                 let hello = Message::Hello {
                     protocol: PROTOCOL,
@@ -260,16 +252,11 @@ impl Driver for ControllerDriver {
                     control_hz: self.config.params.control_hz,
                     camera: self.config.params.camera,
                 };
-                ChildProcess::start(&self.config.command, &hello, &Message::Bye).map(|process| {
-                    Controller {
-                        process,
-                        answered: None,
-                    }
-                })
+                ChildProcess::start(&self.config.command, &hello, &Message::Bye)
             }
         };
-        match controller {
-            Ok(controller) => self.controller = Some(controller),
+        match process {
+            Ok(process) => self.process = Some(process),
             Err(fault) => return self.fail(fault.to_string()),
         }
         let road_line = Message::Road {
@@ -278,7 +265,7 @@ impl Driver for ControllerDriver {
             speed_limit_mps,
             max_steering_rad: self.max_steering_rad,
         };
-        let sent = self.controller.as_mut().map(|c| c.process.send(&road_line));
+        let sent = self.process.as_mut().map(|p| p.send(&road_line));
         if let Some(Err(fault)) = sent {
             self.fail(fault.to_string());
         }
@@ -290,20 +277,16 @@ impl Driver for ControllerDriver {
             throttle: 0.0,
             brake: 1.0,
         };
-        if self.failure.is_some() || self.controller.is_none() {
+        if self.failure.is_some() || self.process.is_none() {
             return failed;
         }
         self.step += 1;
         let step = self.step_message(observation);
         let timeout = Duration::from_secs_f64(self.config.params.step_timeout_s);
         let asked = self.step;
-        let answered = self.controller.as_mut().map(|c| {
-            c.process.answer(&step, timeout, &NEVER).map(|line| {
-                let reply = parse_reply(&line, asked, c.answered);
-                if reply.is_ok() {
-                    c.answered = Some(asked);
-                }
-                reply
+        let answered = self.process.as_mut().map(|p| {
+            p.answer(&step, asked, timeout, &NEVER, |line, answered| {
+                parse_reply(line, asked, answered)
             })
         });
         let reply = match answered {
@@ -341,13 +324,13 @@ impl Drop for ControllerDriver {
     fn drop(&mut self) {
         // A controller that drove well ends its drive and waits for the next; one that failed
         // was dropped (killed and reaped) when it failed.
-        if let Some(mut controller) = self.controller.take() {
-            if controller.process.send(&Message::End).is_ok() {
+        if let Some(mut process) = self.process.take() {
+            if process.send(&Message::End).is_ok() {
                 self.config
                     .idle
                     .lock()
                     .unwrap_or_else(|p| p.into_inner())
-                    .push(controller);
+                    .push(process);
             }
         }
     }

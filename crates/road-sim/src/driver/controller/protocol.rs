@@ -9,6 +9,7 @@
 //! Version 2 added the step's number to both lines: without it, a second reply to one step could
 //! pass for the reply to the next, and the car would be steered one step late from then on.
 
+use crate::child_process::Echo;
 use crate::road::Point;
 use serde::Serialize;
 use serde_json::Value;
@@ -127,17 +128,17 @@ pub fn parse_reply(line: &str, asked: u64, answered: Option<u64>) -> Result<Repl
         serde_json::from_str(line).map_err(|e| ReplyError::NotJson(e.to_string()))?;
     let object = value.as_object().ok_or(ReplyError::NotObject)?;
     let problem = |field: &'static str, problem: String| ReplyError::Field { field, problem };
-    match object.get("step").map(Value::as_u64) {
-        Some(Some(step)) if step == asked => {}
-        Some(Some(step)) if Some(step) == answered => return Err(ReplyError::SecondReply(step)),
-        Some(Some(step)) => {
+    match Echo::of(object.get("step"), asked, answered) {
+        Echo::Asked => {}
+        Echo::Repeat(step) => return Err(ReplyError::SecondReply(step)),
+        Echo::Other(step) => {
             return Err(problem(
                 "step",
                 format!("{step} is not the step asked ({asked})"),
             ))
         }
-        Some(None) => return Err(problem("step", "not a step number".to_owned())),
-        None => {
+        Echo::NotANumber => return Err(problem("step", "not a step number".to_owned())),
+        Echo::Missing => {
             return Err(problem(
                 "step",
                 format!("missing (version {VERSION} replies name their step)"),
