@@ -126,6 +126,45 @@ fn a_faulty_controller_fails_one_drive_and_is_restarted_for_the_next() {
 }
 
 #[test]
+fn a_controller_slow_to_start_has_its_own_deadline_for_the_first_reply() {
+    if !python() {
+        return;
+    }
+    let dir = scratch_dir("controller-slow-start");
+    let roads = reference_roads(2);
+    let oracle = format!("cmd:python3 {REPO}/tests/python/faulty_controller.py slow-start 0 0");
+    // Its 1.5 s start-up is within `start_timeout_s` (30 s), not within a step's 0.5 s.
+    let config = write_file(&dir, "steps.json", r#"{"driver": {"step_timeout_s": 0.5}}"#);
+    let output = wogan(
+        &["simulate", "--oracle", &oracle, "--config", &config],
+        &roads,
+    );
+    assert_eq!(output.status.code(), Some(0));
+    let answers = records(&output);
+    assert_eq!(answers.len(), 2);
+    for answer in &answers {
+        assert_ne!(answer["outcome"], "ERROR", "{answer}");
+    }
+    // Past `start_timeout_s` the first drive fails, saying so.
+    let config = write_file(
+        &dir,
+        "start.json",
+        r#"{"driver": {"step_timeout_s": 0.5, "start_timeout_s": 0.5}}"#,
+    );
+    let output = wogan(
+        &["simulate", "--oracle", &oracle, "--config", &config],
+        &roads,
+    );
+    let answers = records(&output);
+    assert_eq!(answers[0]["outcome"], "ERROR", "{}", answers[0]);
+    let error = answers[0]["error"].as_str().unwrap_or_default();
+    assert!(
+        error.contains("at t = 0.00 s: no answer within 0.500 s"),
+        "{error}"
+    );
+}
+
+#[test]
 fn a_controller_that_always_fails_stops_the_run_and_no_file_starts_one() {
     if !python() {
         return;

@@ -9,13 +9,16 @@ It drives straight ahead at a steady throttle, except at step STEP of its ROAD-t
 names another step), `flood` (two replies), `late-second` (a second reply to it written only once
 the next step has been read), `end-second` (its drive's last step replied to again when the drive
 ends; STEP is not used). Every reply names its step. MODE `always-crash` exits at the first step
-of every drive. Standard library only.
+of every drive; MODE `slow-start` starts slower than a step's deadline (it waits 1.5 s before
+reading `hello`) and then drives well. Standard library only.
 """
 import json
 import sys
 import time
 
 mode, bad_road, bad_step = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+if mode == "slow-start":
+    time.sleep(1.5)
 hello = json.loads(sys.stdin.readline())
 assert hello["type"] == "hello" and hello["protocol"] == "wogan-controller", hello
 assert hello["version"] == 2, hello

@@ -36,6 +36,9 @@ pub struct ControllerParams {
     pub control_hz: f64,
     /// Longest wait for one step's reply, seconds.
     pub step_timeout_s: f64,
+    /// Longest wait for the first reply of a controller just started, seconds: its start-up
+    /// (an interpreter, a model loaded) is not a step's work.
+    pub start_timeout_s: f64,
     /// Whether each step carries the front camera's gray frame (66 x 200, DAVE-2's).
     pub camera: bool,
     /// Points of the lane centre ahead given per step.
@@ -49,6 +52,7 @@ impl Default for ControllerParams {
         Self {
             control_hz: 20.0,
             step_timeout_s: 1.0,
+            start_timeout_s: 30.0,
             camera: false,
             ahead_points: 10,
             ahead_spacing_m: 3.0,
@@ -68,6 +72,11 @@ impl ControllerParams {
             (
                 self.step_timeout_s > 0.0 && self.step_timeout_s <= 3600.0,
                 "driver.step_timeout_s",
+                "in (0, 3600]",
+            ),
+            (
+                self.start_timeout_s > 0.0 && self.start_timeout_s <= 3600.0,
+                "driver.start_timeout_s",
                 "in (0, 3600]",
             ),
             (
@@ -110,6 +119,7 @@ impl ControllerConfig {
             config: self.clone(),
             process: None,
             step: 0,
+            started_for_drive: false,
             failure: None,
             lane: Vec::new(),
             max_steering_rad: 0.0,
@@ -131,6 +141,8 @@ pub struct ControllerDriver {
     process: Option<ChildProcess>,
     /// The number of the last step sent in this drive.
     step: u64,
+    /// Whether the process was started for this drive (its first reply may take start-up time).
+    started_for_drive: bool,
     failure: Option<String>,
     /// The right lane's centre.
     lane: Vec<Point>,
@@ -242,6 +254,7 @@ impl Driver for ControllerDriver {
             .lock()
             .unwrap_or_else(|p| p.into_inner())
             .pop();
+        self.started_for_drive = idle.is_none();
         let process = match idle {
             Some(process) => Ok(process),
             None => {
@@ -282,7 +295,12 @@ impl Driver for ControllerDriver {
         }
         self.step += 1;
         let step = self.step_message(observation);
-        let timeout = Duration::from_secs_f64(self.config.params.step_timeout_s);
+        let params = &self.config.params;
+        let timeout = Duration::from_secs_f64(if self.step == 1 && self.started_for_drive {
+            params.start_timeout_s.max(params.step_timeout_s)
+        } else {
+            params.step_timeout_s
+        });
         let asked = self.step;
         let answered = self.process.as_mut().map(|p| {
             p.answer(&step, asked, timeout, &NEVER, |line, answered| {
