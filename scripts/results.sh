@@ -323,8 +323,9 @@ def sbst_section():
 # measures of each group, and the preset's comparison with every other row.
 PEERS = [("random", "the pipeline's random generator"), ("freneticv", "FreneticV"),
          ("ambiegen", "AmbieGen"), ("adafrenetic", "AdaFrenetic"), ("frenetic2021", "Frenetic (2021)")]
-OURS = [("preset-sbst", "wogan `--preset sbst`"), ("wogan", "wogan, the paper's WOGAN"),
-        ("random", "wogan, random search")]
+OURS = [("preset-sbst", "wogan `--preset sbst`"),
+        ("preset-sbst-no-niches", "wogan `--preset sbst-no-niches`"),
+        ("wogan", "wogan, the paper's WOGAN"), ("random", "wogan, random search")]
 FIELD_ROWS = [("tests executed", "tests"), ("failures", "failures"),
               ("failures per simulated hour", "failures / sim. h"),
               ("lane exits over the centre line (left)", "exits left"),
@@ -428,53 +429,70 @@ def field_section():
 
 
 # ---------------------------------------------------------------------------------------------
-# Niches (issue 38): `--preset sbst-niches` against `--preset sbst` and the paper's WOGAN under the
-# competition's budgets (scripts/sbst_budget_runs.sh with ALGORITHMS="preset-sbst-niches ...").
-NICHES_COMPARED = ("failures per run", "distinct failures per run", "diversity",
+# The `sbst` preset (issue 38) against the preset without niches, the paper's WOGAN and each peer
+# whose runs are on the machine, under the competition's budgets.
+PRESET_COMPARED = ("failures per run", "distinct failures per run", "diversity",
                    "sparseness mean over the OOBs it places")
 
 
-def niches_section():
+def section_of(path, heading):
+    """The text of the `## ` section of `path` whose heading starts with `heading` ("" if none)."""
+    if not os.path.exists(path):
+        return ""
+    text = open(path).read()
+    start = text.find("\n" + heading)
+    if start < 0:
+        return ""
+    end = text.find("\n## ", start + 1)
+    return text[start:end if end >= 0 else len(text)]
+
+
+def sbst_preset_section():
     out()
-    out("## Niches")
+    out("## The `sbst` preset")
     out()
-    out("`--preset sbst-niches` (A) against `--preset sbst` and the paper's WOGAN (B) under the "
-        "competition's budgets (`ALGORITHMS=\"preset-sbst-niches preset-sbst wogan\" "
+    out("`--preset sbst` (A) against `--preset sbst-no-niches` and the paper's WOGAN (B) under the "
+        "competition's budgets (`ALGORITHMS=\"preset-sbst preset-sbst-no-niches wogan\" "
         "scripts/sbst_budget_runs.sh ORACLE \"$(seq -s ' ' 1 20)\" 1h 2h`): means per run, "
         "Mann–Whitney U, two-sided, from `wogan report A --vs B --table`; then against each SBST "
         "2022 tool whose runs are on the machine (`PEERS_HOME=... scripts/peers/campaign.sh "
         "ORACLE \"1 2 3\" TOOLS`; all of their figures are in the field's section). How the "
-        "settings were chosen: "
-        "docs/experiments/2026-11-26-niches.md and 2026-11-26-niche-roads.md.")
+        "settings were chosen: docs/experiments/2026-11-26-niches.md, 2026-11-26-niche-roads.md "
+        "and 2026-11-26-sbst-preset.md.")
+    if "`--preset sbst-no-niches`" not in section_of(os.environ["OUT"], "## The SBST 2022 field"):
+        out()
+        out("The field's section was written before `--preset sbst` took niches (2026-11-26): its "
+            "`--preset sbst` rows are today's `--preset sbst-no-niches`. `ONLY=field "
+            "scripts/results.sh` writes it again once every peer's runs are on the machine.")
     for oracle in ORACLES:
-        niches = runs_of(f"target/sbst/{oracle}.preset-sbst-niches")
+        preset = runs_of(f"target/sbst/{oracle}.preset-sbst")
         out()
         out(f"### {oracle}")
         out()
-        if not niches:
-            out(f"Runs missing: `ALGORITHMS=preset-sbst-niches scripts/sbst_budget_runs.sh {oracle} ...`.")
+        if not preset:
+            out(f"Runs missing: `ALGORITHMS=preset-sbst scripts/sbst_budget_runs.sh {oracle} ...`.")
             continue
-        out(f"A: {len(niches)} runs of `--preset sbst-niches`.")
+        out(f"A: {len(preset)} runs of `--preset sbst`.")
         out()
-        out("| B | " + " | ".join(f"{m}: A / B, p" for m in NICHES_COMPARED) + " |")
-        out("|---|" + "---|" * len(NICHES_COMPARED))
+        out("| B | " + " | ".join(f"{m}: A / B, p" for m in PRESET_COMPARED) + " |")
+        out("|---|" + "---|" * len(PRESET_COMPARED))
         # The seeds A has, so that both sides are the same searches' luck.
-        seeds = {n.rsplit(".", 2)[-2] for n in niches}
-        for tag, name in OURS[:2]:
+        seeds = {n.rsplit(".", 2)[-2] for n in preset}
+        for tag, name in OURS[1:3]:
             paths = [p for p in runs_of(f"target/sbst/{oracle}.{tag}")
                      if p.rsplit(".", 2)[-2] in seeds]
             if not paths:
                 continue
-            rows = compared(niches, paths, NICHES_COMPARED)
-            out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in NICHES_COMPARED) + " |")
+            rows = compared(preset, paths, PRESET_COMPARED)
+            out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in PRESET_COMPARED) + " |")
         # The peers whose runs are on this machine (scripts/peers/campaign.sh), each against A.
         for tool, name in PEERS:
             paths = sorted(os.path.dirname(p) for p in
                            glob.glob(f"target/peers/{oracle}.{tool}.*/summary.json"))
             if not paths:
                 continue
-            rows = compared(niches, paths, NICHES_COMPARED)
-            out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in NICHES_COMPARED) + " |")
+            rows = compared(preset, paths, PRESET_COMPARED)
+            out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in PRESET_COMPARED) + " |")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -934,7 +952,7 @@ def sections(bench):
         ("comparisons", comparisons_section),
         ("sbst", sbst_section),
         ("field", field_section),
-        ("niches", niches_section),
+        ("sbst-preset", sbst_preset_section),
         ("generator", generator_section),
         ("ci", ci_section),
         ("plug-points", plug_points_section),

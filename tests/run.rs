@@ -159,11 +159,18 @@ fn mutants_join_the_candidates_when_asked_for() {
 }
 
 #[test]
-fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_still_win() {
-    let (code, records) = run(&["--max-tests", "12", "--seed", "3", "--preset", "sbst"]);
+fn the_sbst_presets_set_their_roads_novelty_mutants_and_niches_per_setup_and_options_still_win() {
+    let (code, records) = run(&[
+        "--max-tests",
+        "12",
+        "--seed",
+        "3",
+        "--preset",
+        "sbst-no-niches",
+    ]);
     assert_eq!(code, Some(0));
     let config = &records[0]["config"];
-    assert_eq!(config["preset"], "sbst");
+    assert_eq!(config["preset"], "sbst-no-niches");
     assert_eq!(config["curvature_points"], 16);
     assert_eq!(config["road"]["step_m"], 10.0);
     assert_eq!(config["road"]["placement"], "fitted");
@@ -183,7 +190,7 @@ fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_stil
     };
     let config = config_of(&[
         "--preset",
-        "sbst",
+        "sbst-no-niches",
         "--curvature-points",
         "6",
         "--mutation-share",
@@ -192,17 +199,17 @@ fn the_sbst_preset_sets_its_roads_novelty_and_mutants_per_setup_and_options_stil
     assert_eq!(config["curvature_points"], 6);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.0);
     // The competition's DAVE-2 setup: the paper's roads, a closer novelty, the same mutants.
-    let config = config_of(&["--oracle", "dave2-proxy", "--preset", "sbst"]);
+    let config = config_of(&["--oracle", "dave2-proxy", "--preset", "sbst-no-niches"]);
     assert_eq!(config["curvature_points"], 5);
     assert_eq!(config["road"]["step_m"], 15.0);
     assert_eq!(config["road"]["placement"], "bottom-centre");
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.05);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.25);
-    // With niches: in the BeamNG.AI setup on roads of 22 values, in the DAVE-2 setup on the
-    // BeamNG.AI `sbst` roads, filled by each driver's failures.
+    // `sbst`, with niches: in the BeamNG.AI setup on roads of 22 values, in the DAVE-2 setup on
+    // the BeamNG.AI `sbst-no-niches` roads, filled by each driver's failures.
     for (oracle, level, points) in [("beamng-ai-proxy", 0.85, 22), ("dave2-proxy", 0.1, 16)] {
-        let config = config_of(&["--oracle", oracle, "--preset", "sbst-niches"]);
-        assert_eq!(config["preset"], "sbst-niches");
+        let config = config_of(&["--oracle", oracle, "--preset", "sbst"]);
+        assert_eq!(config["preset"], "sbst");
         assert_eq!(config["curvature_points"], points, "{oracle}");
         assert_eq!(config["road"]["step_m"], 10.0);
         assert_eq!(config["road"]["placement"], "fitted");

@@ -67,9 +67,9 @@ pub struct RunArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(2..=499), allow_negative_numbers = true)]
     pub curvature_points: Option<u32>,
     /// A named set of search settings laid over the paper's WOGAN (the config file and the other
-    /// options still win): `sbst`, many distinct failures under the SBST competition's rules;
-    /// `sbst-niches`, the same with niches, for failures more varied as whole roads
-    /// (docs/reference.md).
+    /// options still win): `sbst`, failures many, distinct and varied as whole roads under the
+    /// SBST competition's rules; `sbst-no-niches`, the same without niches, the most failures,
+    /// all alike as whole roads (docs/reference.md).
     #[arg(long, value_enum)]
     pub preset: Option<SearchPreset>,
     /// Where roads lie on the map: `bottom-centre` (starting there heading north, the paper's) or

@@ -12,21 +12,18 @@ use wogan_core::{NicheConfig, NoveltyConfig, RunConfig};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SearchPreset {
-    /// Many distinct failures under the SBST competition's rules: no candidate near a test
-    /// executed before, a quarter of the candidates mutants of the best tests, and in the
-    /// competition's BeamNG.AI setup roads of 16 curvature values 10 m apart fitted to the map,
-    /// in its DAVE-2 setup the paper's roads with a closer novelty distance (docs/results.md, "The
-    /// SBST 2022 field").
+    /// Failures many, distinct and varied as whole roads under the SBST competition's rules:
+    /// niches of failures far apart by road shape, each exploited in turn, with no candidate near
+    /// a test executed before and mutants of the best tests; in the competition's BeamNG.AI setup
+    /// on roads of 22 curvature values 10 m apart fitted to the map, in its DAVE-2 setup of 16
+    /// (docs/results.md, "The sbst preset").
     Sbst,
-    /// `sbst` with niches: failures gathered in a few regions far apart by road shape, each
-    /// exploited in turn, for failures more varied as whole roads (the paper's diversity) at the
-    /// cost of some distinct ones; in the BeamNG.AI setup on longer roads (22 values) with a closer
-    /// novelty distance, in the DAVE-2 setup on the BeamNG.AI `sbst` roads
-    /// (docs/results.md, "Niches").
-    SbstNiches,
+    /// `sbst` without niches, on shorter roads: more failures, all alike as whole roads
+    /// (docs/results.md, "The SBST 2022 field").
+    SbstNoNiches,
 }
 
-/// The SBST competition's two setups, for which the `sbst` preset was measured apart: BeamNG.AI
+/// The SBST competition's two setups, for which the SBST presets were measured apart: BeamNG.AI
 /// (tolerance 0.85, 70 km/h: `beamng-ai-proxy` and controllers) and DAVE-2 (tolerance 0.1,
 /// 25 km/h: `dave2-proxy` and ONNX camera networks).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -68,7 +65,7 @@ struct SbstSettings {
     niches: NicheConfig,
 }
 
-/// The `sbst` preset's share of mutants among the candidates, in both setups.
+/// The `sbst-no-niches` preset's share of mutants among the candidates, in both setups.
 const SBST_MUTATION_SHARE: f64 = 0.25;
 
 /// The BeamNG.AI setup's roads: 16 curvature values 10 m apart, fitted to the map.
@@ -85,9 +82,9 @@ const BEAMNG_AI_NICHE_ROADS: PresetRoads = PresetRoads {
 };
 
 impl SbstSettings {
-    /// The settings chosen for `setup` (docs/experiments/2026-11-25-sbst-field.md and
-    /// 2026-11-25-sbst-diversity.md).
-    fn of(setup: CompetitionSetup) -> Self {
+    /// The settings `sbst-no-niches` chose for `setup` (docs/experiments/2026-11-25-sbst-field.md
+    /// and 2026-11-25-sbst-diversity.md).
+    fn without_niches(setup: CompetitionSetup) -> Self {
         match setup {
             // Longer roads give a failure several bends before the exit to differ in, shorter
             // steps more ways to bend into it (the Frenetic tools' 10 m); fitted to the map, the
@@ -114,8 +111,8 @@ impl SbstSettings {
         }
     }
 
-    /// The settings `sbst-niches` chose for `setup` (docs/experiments/2026-11-26-niches.md and
-    /// 2026-11-26-niche-roads.md).
+    /// The settings `sbst` chose for `setup`: those without niches, with niches and roads of
+    /// their own (docs/experiments/2026-11-26-niches.md and 2026-11-26-niche-roads.md).
     fn with_niches(setup: CompetitionSetup) -> Self {
         match setup {
             // Niches of 100 failures about three of a run's, seeds 3 rad (RMS) apart; mutants
@@ -140,7 +137,8 @@ impl SbstSettings {
             // bend), so no niche finds room: the longer roads give the bends before the exit
             // room to differ (longer still, of more values or longer steps, adds little here:
             // such roads cost tests at 25 km/h). Seeds nearer than in the BeamNG.AI setup: fewer
-            // far regions fail.
+            // far regions fail, and neither other jumps between niches nor roads of drifting
+            // curvature find more of them (docs/experiments/2026-11-26-sbst-preset.md).
             CompetitionSetup::Dave2 => Self {
                 roads: BEAMNG_AI_ROADS,
                 mutation_share: 0.5,
@@ -151,7 +149,7 @@ impl SbstSettings {
                     patience: 0,
                     min_fitness: 0.0,
                 },
-                ..Self::of(setup)
+                ..Self::without_niches(setup)
             },
         }
     }
@@ -167,8 +165,8 @@ impl SearchPreset {
     fn settings(self, driver: DriverKind) -> SbstSettings {
         let setup = CompetitionSetup::of(driver);
         match self {
-            Self::Sbst => SbstSettings::of(setup),
-            Self::SbstNiches => SbstSettings::with_niches(setup),
+            Self::Sbst => SbstSettings::with_niches(setup),
+            Self::SbstNoNiches => SbstSettings::without_niches(setup),
         }
     }
 
@@ -195,7 +193,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_sbst_preset_changes_only_the_roads_the_novelty_and_the_mutants() {
+    fn sbst_no_niches_changes_only_the_roads_the_novelty_and_the_mutants() {
         let paper = RunConfig::default();
         for (driver, points, step_m, placement, distance) in [
             (
@@ -216,14 +214,14 @@ mod tests {
             (DriverKind::Onnx, 5, 15.0, RoadPlacement::BottomCentre, 0.05),
         ] {
             let mut search = RunConfig::default();
-            SearchPreset::Sbst.apply(&mut search, driver);
+            SearchPreset::SbstNoNiches.apply(&mut search, driver);
             assert_eq!(search.wogan.novelty.distance, distance, "{driver}");
             assert_eq!(search.wogan.mutation.share, SBST_MUTATION_SHARE);
             assert_eq!(search.wogan.niches, NicheConfig::default());
             search.wogan.novelty = paper.wogan.novelty.clone();
             search.wogan.mutation.share = paper.wogan.mutation.share;
             assert_eq!(search, paper);
-            let roads = SearchPreset::Sbst.roads(driver);
+            let roads = SearchPreset::SbstNoNiches.roads(driver);
             assert_eq!(roads.curvature_points, points);
             assert_eq!(roads.placement, placement);
             assert_eq!(roads.step_m, step_m);
@@ -231,15 +229,15 @@ mod tests {
     }
 
     #[test]
-    fn sbst_niches_adds_niches_to_sbst_on_roads_of_its_own() {
+    fn sbst_adds_niches_to_sbst_no_niches_on_roads_of_its_own() {
         // (driver, the curvature values of its roads, its novelty distance)
         for (driver, points, novelty) in [
             (DriverKind::BeamNgAiProxy, 22, 0.075),
             (DriverKind::Dave2Proxy, 16, 0.05),
         ] {
             let (mut sbst, mut niches) = (RunConfig::default(), RunConfig::default());
-            SearchPreset::Sbst.apply(&mut sbst, driver);
-            SearchPreset::SbstNiches.apply(&mut niches, driver);
+            SearchPreset::SbstNoNiches.apply(&mut sbst, driver);
+            SearchPreset::Sbst.apply(&mut niches, driver);
             assert!(niches.wogan.niches.quota > 0, "{driver}");
             assert!(niches.wogan.niches.distance > niches.wogan.niches.radius);
             assert!(niches.wogan.mutation.share > sbst.wogan.mutation.share);
@@ -248,14 +246,14 @@ mod tests {
             niches.wogan.mutation.share = sbst.wogan.mutation.share;
             niches.wogan.novelty = sbst.wogan.novelty.clone();
             assert_eq!(niches, sbst, "{driver}");
-            let roads = SearchPreset::SbstNiches.roads(driver);
+            let roads = SearchPreset::Sbst.roads(driver);
             assert_eq!(roads.curvature_points, points, "{driver}");
             assert_eq!(
                 PresetRoads {
                     curvature_points: 16,
                     ..roads
                 },
-                SearchPreset::Sbst.roads(DriverKind::BeamNgAiProxy)
+                SearchPreset::SbstNoNiches.roads(DriverKind::BeamNgAiProxy)
             );
         }
     }
