@@ -459,7 +459,10 @@ def sbst_preset_section():
         "ORACLE \"1 2 3\" TOOLS`; all of their figures are in the field's section). How the "
         "settings were chosen: docs/experiments/2026-11-26-niches.md, 2026-11-26-niche-roads.md "
         "and 2026-11-26-sbst-preset.md.")
-    if "`--preset sbst-no-niches`" not in section_of(os.environ["OUT"], "## The SBST 2022 field"):
+    field = "## The SBST 2022 field"
+    written_now = "\n".join(lines)
+    field_text = written_now if field in written_now else section_of(os.environ["OUT"], field)
+    if "`--preset sbst-no-niches`" not in field_text:
         out()
         out("The field's section was written before `--preset sbst` took niches (2026-11-26): its "
             "`--preset sbst` rows are today's `--preset sbst-no-niches`. `ONLY=field "
