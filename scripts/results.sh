@@ -387,9 +387,7 @@ def field_section():
         "1h --execution-budget 2h`: `scripts/sbst_budget_runs.sh`; the preset's runs with "
         "`ALGORITHMS=preset-sbst`). Every figure is `wogan report`'s, computed the same way for "
         "every run: means over runs (their number in brackets). The peers' seeds seed Python's and "
-        "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated. A row of "
-        "more than 20 runs had seeds added to settle a comparison "
-        "(docs/experiments/2026-11-25-sbst-diversity.md).")
+        "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated.")
     for oracle in ORACLES:
         groups = []
         for tag, name in OURS:
