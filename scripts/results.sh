@@ -433,18 +433,6 @@ PRESET_COMPARED = ("failures per run", "distinct failures per run", "diversity",
                    "sparseness mean over the OOBs it places")
 
 
-def section_of(path, heading):
-    """The text of the `## ` section of `path` whose heading starts with `heading` ("" if none)."""
-    if not os.path.exists(path):
-        return ""
-    text = open(path).read()
-    start = text.find("\n" + heading)
-    if start < 0:
-        return ""
-    end = text.find("\n## ", start + 1)
-    return text[start:end if end >= 0 else len(text)]
-
-
 def sbst_preset_section():
     out()
     out("## The `sbst` preset")
@@ -457,14 +445,6 @@ def sbst_preset_section():
         "ORACLE \"1 2 3\" TOOLS`; all of their figures are in the field's section). How the "
         "settings were chosen: docs/experiments/2026-11-26-niches.md, 2026-11-26-niche-roads.md "
         "and 2026-11-26-sbst-preset.md.")
-    field = "## The SBST 2022 field"
-    written_now = "\n".join(lines)
-    field_text = written_now if field in written_now else section_of(os.environ["OUT"], field)
-    if "`--preset sbst-no-niches`" not in field_text:
-        out()
-        out("The field's section was written before `--preset sbst` took niches (2026-11-26): its "
-            "`--preset sbst` rows are today's `--preset sbst-no-niches`. `ONLY=field "
-            "scripts/results.sh` writes it again once every peer's runs are on the machine.")
     for oracle in ORACLES:
         preset = runs_of(f"target/sbst/{oracle}.preset-sbst")
         out()

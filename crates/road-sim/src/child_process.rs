@@ -245,6 +245,11 @@ impl ChildProcess {
         }
     }
 
+    /// Whether any request was answered: a process that has not answered one is still starting.
+    pub fn has_answered(&self) -> bool {
+        self.answered.is_some()
+    }
+
     /// The last lines the program wrote to stderr, joined (empty when none).
     pub fn stderr_tail(&self) -> String {
         // The stderr thread may still be reading what the executor wrote as it failed.

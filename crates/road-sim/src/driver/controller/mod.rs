@@ -119,7 +119,6 @@ impl ControllerConfig {
             config: self.clone(),
             process: None,
             step: 0,
-            started_for_drive: false,
             failure: None,
             lane: Vec::new(),
             max_steering_rad: 0.0,
@@ -141,8 +140,6 @@ pub struct ControllerDriver {
     process: Option<ChildProcess>,
     /// The number of the last step sent in this drive.
     step: u64,
-    /// Whether the process was started for this drive (its first reply may take start-up time).
-    started_for_drive: bool,
     failure: Option<String>,
     /// The right lane's centre.
     lane: Vec<Point>,
@@ -254,7 +251,6 @@ impl Driver for ControllerDriver {
             .lock()
             .unwrap_or_else(|p| p.into_inner())
             .pop();
-        self.started_for_drive = idle.is_none();
         let process = match idle {
             Some(process) => Ok(process),
             None => {
@@ -296,13 +292,15 @@ impl Driver for ControllerDriver {
         self.step += 1;
         let step = self.step_message(observation);
         let params = &self.config.params;
-        let timeout = Duration::from_secs_f64(if self.step == 1 && self.started_for_drive {
-            params.start_timeout_s.max(params.step_timeout_s)
-        } else {
-            params.step_timeout_s
-        });
         let asked = self.step;
         let answered = self.process.as_mut().map(|p| {
+            // A process that has answered nothing yet is still starting (an interpreter, a model
+            // loaded): its first reply is not held to a step's deadline.
+            let timeout = Duration::from_secs_f64(if p.has_answered() {
+                params.step_timeout_s
+            } else {
+                params.start_timeout_s.max(params.step_timeout_s)
+            });
             p.answer(&step, asked, timeout, &NEVER, |line, answered| {
                 parse_reply(line, asked, answered)
             })
