@@ -365,6 +365,18 @@ def runs_of(prefix):
     return [p for _, p in sorted((int(m.group(1)), p) for m, p in seeded if m)]
 
 
+def peer_runs(oracle, tool):
+    """The result folders of one peer's whole runs (scripts/peers/campaign.sh), in seed order:
+    a run a signal cut short, whose summary names the signal, is left out (the campaign runs it
+    again)."""
+    def whole(summary_path):
+        with open(summary_path) as f:
+            return json.load(f).get("interrupted") is None
+    found = glob.glob(f"target/peers/{oracle}.{tool}.*/summary.json")
+    seeded = [(int(p.split("/")[-2].rsplit(".", 1)[-1]), p) for p in found]
+    return [os.path.dirname(p) for _, p in sorted(seeded) if whole(p)]
+
+
 def compared(a_paths, b_paths, measures):
     """{measure: "A / B, p P"} of `wogan report A --vs B --table` for each of `measures`."""
     rows = {}
@@ -387,15 +399,15 @@ def field_section():
         "1h --execution-budget 2h`: `scripts/sbst_budget_runs.sh`; the preset's runs with "
         "`ALGORITHMS=preset-sbst`). Every figure is `wogan report`'s, computed the same way for "
         "every run: means over runs (their number in brackets). The peers' seeds seed Python's and "
-        "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated.")
+        "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated, and a run "
+        "of it takes 26–45 minutes against one or two of the other tools', so it has fewer runs.")
     for oracle in ORACLES:
         groups = []
         for tag, name in OURS:
             paths = runs_of(f"target/sbst/{oracle}.{tag}")
             groups.append((name, paths))
         for tool, name in PEERS:
-            paths = sorted(glob.glob(f"target/peers/{oracle}.{tool}.*/summary.json"))
-            groups.append((name, [os.path.dirname(p) for p in paths]))
+            groups.append((name, peer_runs(oracle, tool)))
         out()
         out(f"### {oracle}")
         out()
@@ -442,9 +454,9 @@ def sbst_preset_section():
         "scripts/sbst_budget_runs.sh ORACLE \"$(seq -s ' ' 1 20)\" 1h 2h`): means per run, "
         "Mann–Whitney U, two-sided, from `wogan report A --vs B --table`; then against each SBST "
         "2022 tool whose runs are on the machine (`PEERS_HOME=... scripts/peers/campaign.sh "
-        "ORACLE \"1 2 3\" TOOLS`; all of their figures are in the field's section). How the "
-        "settings were chosen: docs/experiments/2026-11-26-niches.md, 2026-11-26-niche-roads.md "
-        "and 2026-11-26-sbst-preset.md.")
+        "ORACLE \"$(seq -s ' ' 1 20)\" TOOLS`; all of their figures are in the field's section). How "
+        "the settings were chosen: docs/experiments/2026-11-26-niches.md, 2026-11-26-niche-roads.md, "
+        "2026-11-26-sbst-preset.md and 2026-11-26-field-20-runs.md.")
     for oracle in ORACLES:
         preset = runs_of(f"target/sbst/{oracle}.preset-sbst")
         out()
@@ -468,8 +480,7 @@ def sbst_preset_section():
             out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in PRESET_COMPARED) + " |")
         # The peers whose runs are on this machine (scripts/peers/campaign.sh), each against A.
         for tool, name in PEERS:
-            paths = sorted(os.path.dirname(p) for p in
-                           glob.glob(f"target/peers/{oracle}.{tool}.*/summary.json"))
+            paths = peer_runs(oracle, tool)
             if not paths:
                 continue
             rows = compared(preset, paths, PRESET_COMPARED)

@@ -7,8 +7,9 @@
 #
 # TOOLS: any of random freneticv ambiegen adafrenetic frenetic2021 (default: all). Each run is a
 # result folder target/peers/ORACLE.TOOL.SEED/ (the pipeline's test.NNNN.json files, run.log,
-# tests.jsonl, summary.json); a folder with a summary.json is kept, one without (an interrupted
-# run) is moved aside to target/peers/interrupted/ and run again. WOGAN=path uses another binary.
+# tests.jsonl, summary.json); a folder with a summary.json is kept, one without or whose summary
+# names the signal that interrupted it is moved aside to target/peers/interrupted/ and run again.
+# WOGAN=path uses another binary.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 peers=${PEERS_HOME:?set PEERS_HOME to the folder holding venv/, pipeline/, pr/ and frenetic2021/}
@@ -39,7 +40,11 @@ for oracle in $oracles; do
     read -r checkout options <<< "$(generator "$tool")"
     for seed in $seeds; do
       folder="$out/$oracle.$tool.$seed"
-      if [ -f "$folder/summary.json" ]; then continue; fi
+      # A run cut short by a signal writes its summary too, naming the signal (run_peer.py's
+      # json.dump spacing): it is run again.
+      if [ -f "$folder/summary.json" ] && ! grep -q '"interrupted": "' "$folder/summary.json"; then
+        continue
+      fi
       if [ -d "$folder" ]; then mv "$folder" "$out/interrupted/$oracle.$tool.$seed.$(date +%s)"; fi
       # shellcheck disable=SC2086 # options are words
       "$peers/venv/bin/python" scripts/peers/run_peer.py --pipeline "$peers/$checkout" $options \

@@ -18,6 +18,7 @@ import json
 import logging as log
 import os
 import random
+import signal
 import sys
 import time
 import traceback
@@ -128,6 +129,7 @@ def main():
                               max_valid_tests=args.max_valid_tests, clock=clock)
     started = time.perf_counter()
     register_exit_fun(lambda: write_summary(args, out, executor, started))
+    note_interrupting_signals(executor)
     try:
         if args.api == "2021":
             generator = generator_class(time_budget=args.execution_budget, executor=executor,
@@ -144,6 +146,23 @@ def main():
         executor.close()
 
 
+def note_interrupting_signals(executor):
+    """Notes on the executor a SIGTERM or SIGINT before the handler already installed runs (the
+    pipeline's writes the summary on SIGTERM), so that the summary of a run cut short says so
+    and a campaign runs it again instead of counting a part of a run as a whole one."""
+    for number in (signal.SIGTERM, signal.SIGINT):
+        earlier = signal.getsignal(number)
+
+        def note(signum, frame, earlier=earlier):
+            executor.interrupted = signal.Signals(signum).name
+            if callable(earlier):
+                earlier(signum, frame)
+            else:
+                sys.exit(128 + signum)
+
+        signal.signal(number, note)
+
+
 def write_summary(args, out, executor, started):
     """summary.json: what `wogan report` reads as the run's configuration, and the run's counts."""
     stats = executor.stats
@@ -158,6 +177,7 @@ def write_summary(args, out, executor, started):
                "simulated_s": round(sum(stats.test_execution_simulation_times), 1),
                "ended_by_budget": executor.is_force_timeout(),
                "crashed": getattr(executor, "crashed", None),
+               "interrupted": getattr(executor, "interrupted", None),
                "wall_s": round(time.perf_counter() - started, 1)}
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f)

@@ -13,8 +13,10 @@
 //!
 //! The configuration comes from the `summary.json` the peers' harness
 //! (`scripts/peers/run_peer.py`) writes beside the tests: `generator` names the algorithm,
-//! `oracle` the driver, `oob_tolerance` and `speed_limit` the conditions. Without it (a bare pipeline folder, an export) the algorithm is
-//! the folder's name and the rest read `?`: nothing is guessed.
+//! `oracle` the driver, `oob_tolerance` and `speed_limit` the conditions, `interrupted` the signal
+//! that cut the run short (a run so ended is reported as interrupted, as a `wogan run` would be).
+//! Without it (a bare pipeline folder, an export) the algorithm is the folder's name and the rest
+//! read `?`: nothing is guessed.
 
 use super::format::{test_file_number, test_files, FIELDS};
 use crate::records::{RoadExecution, SummaryRecord, TestRecord};
@@ -49,7 +51,7 @@ pub fn is_result_folder(dir: &Path) -> bool {
 pub fn read_result_folder(dir: &Path) -> Result<RunFile> {
     let files = test_files(dir).with_context(|| format!("cannot list {}", dir.display()))?;
     let mut problems = Vec::new();
-    let (header, wall_s) = folder_header(dir, &mut problems);
+    let (header, ending) = folder_header(dir, &mut problems);
     let mut tests: Vec<TestRecord> = Vec::new();
     let mut pipeline_invalid = 0;
     for file in &files {
@@ -64,7 +66,7 @@ pub fn read_result_folder(dir: &Path) -> Result<RunFile> {
         failed: tests.iter().filter(|t| t.failed()).count(),
         // What a generator rejected before proposing is not in the folder.
         invalid_candidates: 0,
-        wall_s,
+        wall_s: ending.wall_s,
         generation_s: f64::NAN,
         training_s: 0.0,
         simulation_s: tests
@@ -77,7 +79,7 @@ pub fn read_result_folder(dir: &Path) -> Result<RunFile> {
         beyond_budget: None,
         diversity: None,
         diversity_pairs: String::new(),
-        interrupted: false,
+        interrupted: ending.interrupted,
         error: None,
     };
     Ok(RunFile {
@@ -92,9 +94,17 @@ pub fn read_result_folder(dir: &Path) -> Result<RunFile> {
     })
 }
 
-/// The run's header from the harness's `summary.json`, or from the folder's name alone; and the
-/// run's wall time when the harness gives it (NaN otherwise).
-fn folder_header(dir: &Path, problems: &mut Vec<String>) -> (RunHeader, f64) {
+/// How the harness says a run went, beside its header.
+struct HarnessEnding {
+    /// The run's wall time, seconds (NaN when the harness does not say).
+    wall_s: f64,
+    /// Whether a signal cut the run short (the summary names it).
+    interrupted: bool,
+}
+
+/// The run's header from the harness's `summary.json`, or from the folder's name alone; and how
+/// the run went, as far as the harness says.
+fn folder_header(dir: &Path, problems: &mut Vec<String>) -> (RunHeader, HarnessEnding) {
     let path = dir.join(HARNESS_SUMMARY);
     let summary = match std::fs::read_to_string(&path) {
         Ok(text) => match serde_json::from_str::<Value>(&text) {
@@ -150,11 +160,14 @@ fn folder_header(dir: &Path, problems: &mut Vec<String>) -> (RunHeader, f64) {
         config: json!({"sim": {"oob_tolerance": oob, "speed_limit_kmh": speed}}),
         version: "-".to_owned(),
     };
-    let wall_s = summary
-        .get("wall_s")
-        .and_then(Value::as_f64)
-        .unwrap_or(f64::NAN);
-    (header, wall_s)
+    let ending = HarnessEnding {
+        wall_s: summary
+            .get("wall_s")
+            .and_then(Value::as_f64)
+            .unwrap_or(f64::NAN),
+        interrupted: summary.get("interrupted").is_some_and(|s| !s.is_null()),
+    };
+    (header, ending)
 }
 
 /// One test file: `None` for a test the pipeline found invalid, else the executed test.
@@ -427,7 +440,8 @@ mod tests {
             "road_points": [[0.0, 0.0]], "interpolated_points": []});
         let out = [record(0.0, 100.0, 0.1, false), record(3.0, 98.5, 0.9, true)];
         let summary = json!({"generator": "frenetic.generators.FreneticV",
-            "oracle": "dave2-proxy", "oob_tolerance": 0.1, "speed_limit": 25, "seed": 4});
+            "oracle": "dave2-proxy", "oob_tolerance": 0.1, "speed_limit": 25, "seed": 4,
+            "interrupted": null});
         let dir = scratch(
             "harness",
             &[
@@ -464,6 +478,7 @@ mod tests {
         assert_eq!(ids, [1, 4]);
         let summary = run.summary.as_ref().unwrap();
         assert_eq!((summary.executed, summary.failed), (2, 1));
+        assert!(!summary.interrupted);
         // The pipeline's totals: three invalid tests generated, two valid.
         assert_eq!(run.pipeline_invalid, 3);
         let stats = super::super::metrics::GenerationStats::of(&run);
@@ -510,8 +525,17 @@ mod tests {
             "sbst:adafrenetic.2 / ? / fitness - / oob ? / ? km/h"
         );
         assert_eq!(header.seed, None);
+        assert!(!run.summary.unwrap().interrupted);
         assert!(is_result_folder(&dir));
         assert!(!is_result_folder(dir.parent().unwrap()));
+        // The harness's summary of a run a signal cut short names the signal.
+        let cut_short = json!({"generator": "src.generators.AdaFrenetic", "seed": 2,
+            "wall_s": 12.5, "interrupted": "SIGTERM"});
+        std::fs::write(dir.join("summary.json"), cut_short.to_string()).unwrap();
+        let run = read_result_folder(&dir).unwrap();
+        let summary = run.summary.unwrap();
+        assert!(summary.interrupted);
+        assert_eq!(summary.wall_s, 12.5);
         std::fs::write(dir.join("summary.json"), "[1]").unwrap();
         let run = read_result_folder(&dir).unwrap();
         assert!(
