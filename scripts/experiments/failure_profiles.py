@@ -132,12 +132,13 @@ def main():
         roads = [[p[:2] for p in _interpolate(road)] if raw else road for road, raw in roads]
         lengths = [arc_lengths(road)[-1] for road in roads]
         long_enough = [road for road, length in zip(roads, lengths) if length >= args.first_m]
-        whole = median_pairwise([heading_profile(r) for r in roads])
+        profiles = [heading_profile(r) for r in roads]
+        whole = median_pairwise(profiles)
         first = median_pairwise(
             [heading_profile(r, args.first_m) for r in long_enough])
         length = statistics.median(lengths) if lengths else float("nan")
         print(f"| {name} | {len(paths)} | {failing} | {whole:.1f} | {first:.1f} | {length:.0f} |")
-        plotted.append((name, roads, failing))
+        plotted.append((name, profiles, lengths, failing))
     if args.plot:
         plot(plotted, args.plot)
 
@@ -151,14 +152,12 @@ def plot(groups, path):
     columns = 2
     rows = (len(groups) + columns - 1) // columns
     figure, axes = plt.subplots(rows, columns, figsize=(7 * columns, 4.5 * rows), squeeze=False)
-    for axis, (name, roads, failing) in zip(axes.flat, groups):
-        for road in roads:
-            length = arc_lengths(road)[-1]
-            profile = heading_profile(road)
+    for axis, (name, profiles, lengths, failing) in zip(axes.flat, groups):
+        for profile, length in zip(profiles, lengths):
             steps = len(profile)
             axis.plot([length * (i + 0.5) / steps for i in range(steps)], profile,
                       color="C0", alpha=0.3, linewidth=0.7)
-        shown = "" if len(roads) == failing else f" (a sample of {len(roads)} drawn)"
+        shown = "" if len(profiles) == failing else f" (a sample of {len(profiles)} drawn)"
         axis.set_title(f"{name}: {failing} failing roads{shown}")
         axis.set_xlabel("arc length (m)")
         axis.set_ylabel("heading relative to the first segment (rad)")
