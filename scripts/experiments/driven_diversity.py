@@ -31,7 +31,7 @@ import sys
 
 import numpy as np
 
-from failure_profiles import arc_lengths, heading_profile, interpolated_points
+from failure_profiles import arc_lengths, failing_tests, heading_profile, interpolated_points
 
 # Road compared past a lane exit, metres (the competition's OOB segment reach).
 REACH_M = 30.0
@@ -56,23 +56,14 @@ def arc_length_nearest(line, point):
 
 def failures(path, interpolate):
     """(interpolated road, exit point or None) of each failing test of a run file or folder."""
-    if path.endswith(".jsonl"):
-        with open(path) as lines:
-            for line in lines:
-                record = json.loads(line)
-                if record.get("type") != "test" or record.get("outcome") != "FAIL":
-                    continue
-                if record.get("beyond_budget"):
-                    # Past the budget: not one of the run's tests (`wogan report` skips it).
-                    continue
-                road = [p[:2] for p in interpolate(record["road_points"])]
-                oob = record.get("oob")
-                yield road, (oob["x"], oob["y"]) if oob else None
-        return
-    for name in sorted(glob.glob(path.rstrip("/") + "/test.*.json")):
-        with open(name) as file:
-            test = json.load(file)
-        if test.get("test_outcome") != "FAIL":
+    for test, in_run_file in failing_tests(path):
+        if in_run_file:
+            if test.get("beyond_budget"):
+                # Past the budget: not one of the run's tests (`wogan report` skips it).
+                continue
+            oob = test.get("oob")
+            road = [p[:2] for p in interpolate(test["road_points"])]
+            yield road, (oob["x"], oob["y"]) if oob else None
             continue
         records = test["execution_data"]
         records = json.loads(records) if isinstance(records, str) else records

@@ -79,24 +79,31 @@ def interpolated_points(test):
     return json.loads(points) if isinstance(points, str) else points
 
 
-def failing_roads(path, random_phase_only):
-    """The failing roads of one run file or result folder, each with whether it is a run file's
-    road points, still to be interpolated."""
+def failing_tests(path):
+    """Each failing test of one run file or result folder: its record (a run file's test line or
+    a folder's `test.NNNN.json`) and whether it is a run file's."""
     if path.endswith(".jsonl"):
         with open(path) as lines:
             for line in lines:
                 record = json.loads(line)
-                if record.get("type") != "test" or record.get("outcome") != "FAIL":
-                    continue
-                if random_phase_only and record.get("phase") != "random":
-                    continue
-                yield record["road_points"], True
+                if record.get("type") == "test" and record.get("outcome") == "FAIL":
+                    yield record, True
         return
     for name in sorted(glob.glob(path.rstrip("/") + "/test.*.json")):
         with open(name) as file:
             test = json.load(file)
         if test.get("test_outcome") == "FAIL":
+            yield test, False
+
+
+def failing_roads(path, random_phase_only):
+    """The failing roads of one run file or result folder, each with whether it is a run file's
+    road points, still to be interpolated."""
+    for test, in_run_file in failing_tests(path):
+        if not in_run_file:
             yield interpolated_points(test), False
+        elif not random_phase_only or test.get("phase") == "random":
+            yield test["road_points"], True
 
 
 def median_pairwise(profiles):
