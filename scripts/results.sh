@@ -398,7 +398,9 @@ def field_section():
         "scripts/peers/campaign.sh`), and wogan's runs under the same budgets (`--generation-budget "
         "1h --execution-budget 2h`: `scripts/sbst_budget_runs.sh`; the preset's runs with "
         "`ALGORITHMS=preset-sbst`). Every figure is `wogan report`'s, computed the same way for "
-        "every run: means over runs (their number in brackets). The peers' seeds seed Python's and "
+        "every run: means over runs (their number in brackets). The diversity is the WOGAN authors' "
+        "measure as their code computes it (docs/reference.md, \"Diversity\"; this page gave it "
+        "with the headings unwrapped until 2026-11-27). The peers' seeds seed Python's and "
         "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated, and a run "
         "of it takes 26–45 minutes against one or two of the other tools', so it has fewer runs.")
     for oracle in ORACLES:

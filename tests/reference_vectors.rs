@@ -1,13 +1,16 @@
-//! Agreement with vectors produced by the SBST competition's own pipeline (tests/reference/).
+//! Agreement with vectors produced by the SBST competition's own pipeline and by the WOGAN
+//! authors' diversity measure (tests/reference/).
 //!
 //! Run with `cargo test --release --test end_to_end reference_vectors -- --nocapture` to see the figures.
 //! `WOGAN_REFERENCE_DIR` replaces the directory (same file names).
 
+use road_sim::road::diversity_profile::diversity_profile;
 use road_sim::road::features;
 use road_sim::sim::bolp;
 use road_sim::{CurvatureRoad, Reason, Road, Validator};
 use serde_json::Value;
 use std::path::PathBuf;
+use wogan_core::diversity::median_pairwise_distance;
 
 fn reference_dir() -> PathBuf {
     std::env::var_os("WOGAN_REFERENCE_DIR")
@@ -179,4 +182,49 @@ fn curvature_roads_agree_with_the_reference() {
     }
     println!("roads: {count} curvature roads, points within {worst:.2e} m, all valid");
     assert!(worst <= 1e-5);
+}
+
+#[test]
+fn diversity_agrees_with_the_wogan_authors_measure() {
+    // One JSON document (tests/reference/README.md): roads, distances of pairs, medians of groups.
+    let path = reference_dir().join("wogan/diversity.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let reference: Value = serde_json::from_str(&text).expect("diversity.json is JSON");
+    let profiles: Vec<Vec<f64>> = reference["roads"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|road| diversity_profile(&points(&road["interpolated_points"])))
+        .collect();
+    let mut worst = 0.0f64;
+    let pairs = reference["pairs"].as_array().unwrap();
+    for pair in pairs {
+        let (i, j) = (
+            pair[0].as_u64().unwrap() as usize,
+            pair[1].as_u64().unwrap() as usize,
+        );
+        let ours = median_pairwise_distance(&[profiles[i].clone(), profiles[j].clone()], 0);
+        worst = worst.max((ours.median_distance.unwrap() - pair[2].as_f64().unwrap()).abs());
+    }
+    let groups = reference["groups"].as_array().unwrap();
+    for group in groups {
+        let members: Vec<Vec<f64>> = group["roads"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|i| profiles[i.as_u64().unwrap() as usize].clone())
+            .collect();
+        let ours = median_pairwise_distance(&members, 0)
+            .median_distance
+            .unwrap();
+        worst = worst.max((ours - group["median"].as_f64().unwrap()).abs());
+    }
+    println!(
+        "diversity: {} roads, {} pairs and {} groups within {worst:.2e}",
+        profiles.len(),
+        pairs.len(),
+        groups.len()
+    );
+    assert!(pairs.len() > 100 && !groups.is_empty());
+    assert!(worst <= 1e-9);
 }

@@ -363,8 +363,10 @@ fn report_numbers_match_hand_computation() {
         report.contains("| failure rate (all tests pooled) | 0.100 |"),
         "{report}"
     );
-    // Only seed 3 has two or more failures; its summary record says diversity 3.2861...
-    assert!(report.contains("| 3.286 | – | 1 |"), "{report}");
+    // Only seed 3 has two or more failures (5). The authors' measure over them (stgem's
+    // `euclidean_diversity` on the pipeline's interpolation of their roads) is 3.2755; the
+    // fixture's summary record, written before wogan computed it as they do, says 3.2861.
+    assert!(report.contains("| 3.276 | – | 1 |"), "{report}");
     // Seed 3 fails first at test 23, then 4 of the 7 tests after it; seed 4 at test 5, then none
     // of 25: means 14 and 0.286, SDs sqrt(2 * 9^2) = 12.728 and sqrt(2 * 0.2857^2) = 0.404.
     assert!(

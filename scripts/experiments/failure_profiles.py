@@ -5,7 +5,8 @@ Development-time only (docs/experiments/2026-11-26-field-20-runs.md). `wogan rep
 paper's diversity per run: the median distance between one run's failing roads, which a search
 that exploits a region lowers. Pooling failures of many independent runs (or only those of
 wogan's random phase, which no search shaped) measures instead what the road family's failures
-allow at best. For each group it prints the pooled median over whole roads (the paper's heading
+allow at best (the headings unwrapped, as `wogan report` measured until 2026-11-27; the authors' own
+measure wraps them, docs/reference.md). For each group it prints the pooled median over whole roads (the paper's heading
 profile: 75 points by arc length, heading relative to the first segment), the same over each
 road's first `--first-m` metres only (so that roads of different lengths compare alike), and the
 median failing road length; with `--plot`, a picture of the groups' heading profiles (needs

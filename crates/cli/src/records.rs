@@ -213,7 +213,7 @@ pub struct SummaryRecord {
     /// Tests executed beyond an SBST budget and not kept (0 or 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub beyond_budget: Option<usize>,
-    /// Median pairwise distance of the failing roads' heading profiles.
+    /// The paper's diversity: median pairwise distance of the failing roads' diversity profiles.
     pub diversity: Option<f64>,
     /// Which pairs the diversity was measured on.
     pub diversity_pairs: String,

@@ -57,7 +57,7 @@ impl Sut for RoadSut<'_> {
             .is_valid()
     }
 
-    /// The road's heading profile (radians), as the paper's diversity compares failing roads.
+    /// The road's heading profile (radians, unwrapped; the paper's diversity measure wraps them).
     fn shape(&self, test: &[f32]) -> Option<Vec<f32>> {
         let road = Road::new(&self.roads.points(&self.curvature(test))).ok()?;
         Some(

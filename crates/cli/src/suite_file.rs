@@ -88,7 +88,7 @@ pub fn write(path: &Path, suite: &Suite) -> Result<()> {
         .with_context(|| format!("cannot write the suite {}", path.display()))
 }
 
-/// The paper's description of a road for comparing roads: its heading profile; `None` for
+/// A road's description for comparing roads: its heading profile (unwrapped); `None` for
 /// points that make no road.
 pub fn profile_of(road_points: &[road_sim::Point]) -> Option<Vec<f64>> {
     Road::new(road_points)
@@ -97,10 +97,10 @@ pub fn profile_of(road_points: &[road_sim::Point]) -> Option<Vec<f64>> {
 }
 
 /// Farthest-point selection: which of `candidates` to add to `kept` so that together they are at
-/// most `total`, each added one the candidate farthest (by the paper's road distance) from every
-/// road kept or added so far. With nothing kept, the first pick is the candidate of highest
-/// `priority` (the earliest of equals). Ties go to the earliest candidate. Returns candidate
-/// indices in the order picked.
+/// most `total`, each added one the candidate farthest (the Euclidean distance of heading
+/// profiles) from every road kept or added so far. With nothing kept, the first pick is the
+/// candidate of highest `priority` (the earliest of equals). Ties go to the earliest candidate.
+/// Returns candidate indices in the order picked.
 pub fn farthest_points(
     kept: &[Vec<f64>],
     candidates: &[Vec<f64>],

@@ -1,9 +1,10 @@
 //! Distinct failures: how many of a set of failing roads differ where the car left its lane.
 //!
-//! The WOGAN paper's diversity (the median pairwise distance of whole-road heading profiles) is
-//! no count: finding a second, larger cluster of failures can lower it, and resampling every road
-//! to 75 points compares a long road's shape with a short one's at different scales. This module
-//! counts instead, and looks only where a failure happened:
+//! The WOGAN paper's diversity (the median pairwise distance of whole roads' directions,
+//! [`crate::road::diversity_profile`]) is no count: finding a second, larger cluster of failures
+//! can lower it, and describing every road by 75 of its points compares a long road's shape with
+//! a short one's at different scales. This module counts instead, and looks only where a failure
+//! happened:
 //!
 //! - **Exit profile** ([`ExitProfile::of`]): the road's centre line from [`REACH_M`] before to
 //!   [`REACH_M`] after the point nearest the lane exit (arc length, the competition's ±30 m OOB

@@ -1,5 +1,5 @@
 //! Diversity of a test suite as the WOGAN paper measures it: the median Euclidean distance over
-//! pairs of feature vectors (for roads, their heading profiles).
+//! pairs of feature vectors (for roads, the segments' directions the authors' code computes).
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha20Rng;

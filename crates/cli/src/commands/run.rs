@@ -13,7 +13,7 @@ use crate::records::{Record, RoadExecution, SummaryRecord, TestRecord, TrainReco
 use crate::road_sut::RoadSut;
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
-use road_sim::road::heading_profile::heading_profile;
+use road_sim::road::diversity_profile::diversity_profile;
 use road_sim::Validator;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -76,7 +76,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
                     execution: output,
                 };
                 if test.failed() && !beyond_budget {
-                    failing_profiles.push(heading_profile(&test.execution.interpolated));
+                    failing_profiles.push(diversity_profile(&test.execution.interpolated));
                 }
                 progress.test_done(failing_profiles.len());
                 if plan.junit.is_some() {

@@ -1,6 +1,7 @@
 //! `wogan suite`: the regression suite a team keeps in its repository. `add` keeps the failing
 //! roads of runs (each once; with `--max N` the most different ones, by farthest-point selection
-//! on the paper's road distance, never dropping a road the suite already holds); `list` shows it.
+//! on the heading profiles' distance, never dropping a road the suite already holds); `list`
+//! shows it.
 //! The file's layout is [`crate::suite_file`].
 
 use super::Status;

@@ -7,7 +7,7 @@ use crate::run_file::RunFile;
 use crate::sbst::metrics::SbstMeasures;
 use rayon::prelude::*;
 use road_sim::distinct::{distinct, ExitProfile, DELTA_RAD};
-use road_sim::road::heading_profile::heading_profile;
+use road_sim::road::diversity_profile::diversity_profile;
 use road_sim::Road;
 use road_sim::SimResult;
 use std::collections::BTreeSet;
@@ -34,7 +34,8 @@ pub struct RunMeasures {
     pub simulated_s: f64,
     /// Time spent training models (WOGAN's `train` records), seconds.
     pub training_s: f64,
-    /// Median pairwise distance of the failing roads' heading profiles; `None` below two failures.
+    /// The paper's diversity: median pairwise distance of the failing roads' diversity profiles
+    /// ([`diversity_profile`]); `None` below two failures.
     pub diversity: Option<f64>,
     /// Distinct failures: the greedy count of failing roads whose exit profiles lie at least
     /// [`DELTA_RAD`] apart ([`road_sim::distinct`]); `None` when a failing test's record does not
@@ -90,7 +91,7 @@ impl RunMeasures {
             .collect();
         let profiles: Vec<Vec<f64>> = failing_roads
             .iter()
-            .map(|road| heading_profile(&road.interpolated))
+            .map(|road| diversity_profile(&road.interpolated))
             .collect();
         let lengths_m: Vec<f64> = failing_roads.iter().map(Road::length_m).collect();
         let seed = run.header.as_ref().and_then(|h| h.seed).unwrap_or(0);

@@ -1,13 +1,16 @@
-//! A road's shape as the WOGAN paper compares failing roads: its centre line resampled to
-//! [`PROFILE_POINTS`] points evenly spaced by arc length, and the heading of each of the
-//! segments between them relative to the first, unwrapped, in radians.
+//! A road's shape as the search compares roads (niches, shape novelty, regression suites): its
+//! centre line resampled to [`PROFILE_POINTS`] points evenly spaced by arc length, and the heading
+//! of each of the segments between them relative to the first, unwrapped, in radians. Unwrapped,
+//! it changes continuously with the road; the paper's diversity measure describes roads by
+//! wrapped angles instead ([`super::diversity_profile`]).
 
 use super::Point;
 
 /// Points of the resampled centre line (so the profile has one value fewer).
 pub const PROFILE_POINTS: usize = 75;
 
-/// The heading changes of `line` (at least two points): [`PROFILE_POINTS`] − 1 values, radians.
+/// The unwrapped headings of `line` (at least two points): [`PROFILE_POINTS`] − 1 values,
+/// radians.
 pub fn heading_profile(line: &[Point]) -> Vec<f64> {
     let resampled = resample_by_arc_length(line, PROFILE_POINTS);
     let mut profile = Vec::with_capacity(PROFILE_POINTS - 1);

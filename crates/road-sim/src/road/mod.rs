@@ -1,9 +1,11 @@
 //! Roads: points on the map, curvature values that make them, the competition's spline through
 //! them, the road's lanes, polyline and circle geometry, the competition's road features, the
-//! heading profile that measures diversity, and the input formats roads are read in.
+//! heading profile the search compares roads by, the description the paper's diversity measure
+//! compares them by, and the input formats roads are read in.
 
 pub mod circle;
 pub mod curvature;
+pub mod diversity_profile;
 pub mod features;
 mod geometry;
 pub mod heading_profile;
