@@ -80,9 +80,7 @@ mod tests {
 
     #[test]
     fn a_straight_road_points_north_throughout() {
-        let line: Vec<Point> = (0..200)
-            .map(|i| [3.0 * i as f64, -1.0 * i as f64])
-            .collect();
+        let line: Vec<Point> = (0..200).map(|i| [3.0 * i as f64, -(i as f64)]).collect();
         let profile = diversity_profile(&line);
         assert_eq!(profile.len(), DIVERSITY_POINTS - 1);
         assert!(profile.iter().all(|a| a.abs() < 1e-12), "{profile:?}");
