@@ -4,11 +4,11 @@ roads and driven parts.
 
 Development-time only (docs/experiments/2026-11-27-diversity-guard.md). The paper's diversity is
 the median distance between a run's failing roads' heading profiles (75 points by arc length over
-the whole road). The competition's executor ends a test at the first lane exit, so the road past
-it was never driven: two failing roads that agree up to the exit and part after it are the same
-failure, yet the whole-road measure counts them apart. This script gives, per run and averaged
-over a group's runs, that measure (as `wogan report` computed it until 2026-11-27, with the
-headings unwrapped; the authors' own measure wraps them, docs/reference.md) beside the same measure over the
+the whole road). The competition's executor ends a test at the first lane exit, so the road past it
+was never driven: two failing roads that agree up to the exit and part after it are the same
+failure, yet the whole-road measure counts them apart. This script gives, per run and averaged over
+a group's runs, that measure (as `wogan report` computed it until 2026-11-27, with the headings
+unwrapped; the authors' own measure wraps them, docs/reference.md) beside the same measure over the
 driven part: a pair of failing roads is compared up to 30 m past the later of its two lane exits
 (the competition's OOB segment reach), the profile values beyond adding nothing.
 

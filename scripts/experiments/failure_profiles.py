@@ -2,27 +2,28 @@
 """How varied failing roads are as a road family: the paper's diversity pooled over runs.
 
 Development-time only (docs/experiments/2026-11-26-field-20-runs.md). `wogan report` gives the
-paper's diversity per run: the median distance between one run's failing roads, which a search
-that exploits a region lowers. Pooling failures of many independent runs (or only those of
-wogan's random phase, which no search shaped) measures instead what the road family's failures
-allow at best (the headings unwrapped, as `wogan report` measured until 2026-11-27; the authors' own
-measure wraps them, docs/reference.md). For each group it prints the pooled median over whole roads (the paper's heading
-profile: 75 points by arc length, heading relative to the first segment), the same over each
-road's first `--first-m` metres only (so that roads of different lengths compare alike), and the
-median failing road length; with `--plot`, a picture of the groups' heading profiles (needs
-matplotlib, as the peers' venv has). Every road is the one driven, as `wogan report` profiles
-it: a result folder's `interpolated_points`, and a `wogan run` file's `road_points` interpolated
-by the competition pipeline's own `_interpolate` (imported from a checkout, `--pipeline`; wogan's
-roads agree with it, tests/reference), so that both sides are smoothed alike:
+paper's diversity per run: the median distance between one run's failing roads, which a search that
+exploits a region lowers. Pooling failures of many independent runs (or only those of wogan's
+random phase, which no search shaped) measures instead what the road family's failures allow at
+best (the headings unwrapped, as `wogan report` measured until 2026-11-27; the authors' own measure
+wraps them, docs/reference.md). For each group it prints the pooled median over whole roads (the
+heading profile: 75 points by arc length, heading relative to the first segment), the same
+over each road's first `--first-m` metres only (so that roads of different lengths compare alike),
+and the median failing road length; with `--plot`, a picture of the groups' heading profiles (needs
+matplotlib, as the peers' venv has). Every road is the one driven, as `wogan report` profiles it: a
+result folder's `interpolated_points`, and a `wogan run` file's `road_points` interpolated by the
+competition pipeline's own `_interpolate` (imported from a checkout, `--pipeline`; wogan's roads
+agree with it, tests/reference), so that both sides are smoothed alike:
 
     python3 scripts/experiments/failure_profiles.py \
         "AdaFrenetic=target/peers/dave2-proxy.adafrenetic.*/" \
         "wogan random phase=random:target/sbst/dave2-proxy.preset-sbst.*.jsonl" \
         --pipeline ~/peers/pipeline --plot profiles.png
 
-A group is NAME=GLOB: a glob of result folders (`test.NNNN.json`, their `interpolated_points`)
-or of `wogan run` files; `random:` before a run-file glob keeps only tests of the random phase. A group of more than `--max-roads` failing roads is measured (and drawn) on a
-fixed random sample of that many; the table gives the number before sampling.
+A group is NAME=GLOB: a glob of result folders (`test.NNNN.json`, their `interpolated_points`) or
+of `wogan run` files; `random:` before a run-file glob keeps only tests of the random phase. A
+group of more than `--max-roads` failing roads is measured (and drawn) on a fixed random sample of
+that many; the table gives the number before sampling.
 """
 
 import argparse

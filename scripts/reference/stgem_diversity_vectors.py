@@ -4,7 +4,7 @@
 Development-time only: CI reads the committed JSON file and needs neither stgem nor the pipeline.
 
     git -C <mirror of mshaheryarmalik/stgem> archive HEAD \
-        problems/sbst/sbst_results_analysis.sync.py | tar -x -C /tmp/stgem
+        problems/sbst/sbst_results_analysis.sync.py problems/sbst/util.py | tar -x -C /tmp/stgem
     python3 scripts/reference/stgem_diversity_vectors.py --stgem /tmp/stgem \
         --pipeline <checkout of se2p/tool-competition-av> \
         --out tests/reference/wogan/diversity.json
@@ -13,7 +13,8 @@ The measure is `euclidean_diversity` of stgem's `problems/sbst/sbst_results_anal
 (with its helper `move_road`), called as the authors' notebook calls it (75 points, every test
 counted as failing). The notebook loads experiment results at top level, so the two functions
 are taken out of its syntax tree and run alone, as scripts/reference/stgem_vectors.py takes the
-SBST parameters. Roads are interpolated by the competition pipeline's `_interpolate`, as stgem's
+SBST parameters; the curvature roads are made by stgem's own `test_to_road_points`, taken out
+the same way. Roads are interpolated by the competition pipeline's `_interpolate`, as stgem's
 SUT records the interpolated points of each executed road.
 
 The file holds `roads` (interpolated points, each with how it was made), `pairs` (the measure
@@ -29,10 +30,12 @@ import math
 import os
 import random
 import sys
+import types
 
 import numpy as np
 
 ANALYSIS = os.path.join("problems", "sbst", "sbst_results_analysis.sync.py")
+UTIL = os.path.join("problems", "sbst", "util.py")
 
 
 def stgem_measure(stgem_dir):
@@ -64,20 +67,22 @@ class _Repository:
         return [_Test(r) for r in self.roads], None, [0.0] * len(self.roads)
 
 
-def curvature_road(curvature, step_m):
-    """Points of the sparse curvature representation (start (100, 10) heading north)."""
-    x, y, heading = 100.0, 10.0, math.pi / 2
-    points = [(x, y)]
-    x, y = x + step_m * math.cos(heading), y + step_m * math.sin(heading)
-    points.append((x, y))
-    for k0, k1 in zip(curvature, curvature[1:]):
-        heading += step_m * (k0 + k1) / 2
-        x, y = x + step_m * math.cos(heading), y + step_m * math.sin(heading)
-        points.append((x, y))
-    return points
+def stgem_road_points(stgem_dir):
+    """stgem's `test_to_road_points` (problems/sbst/util.py: curvature values to road points, the
+    authors' SBST road), out of its module, which imports the pipeline and shapely at top level.
+    Its `np.math` is gone from numpy 2, so `np` is given as the little of numpy it uses."""
+    path = os.path.join(stgem_dir, UTIL)
+    tree = ast.parse(open(path).read())
+    nodes = [n for n in tree.body
+             if isinstance(n, ast.FunctionDef) and n.name == "test_to_road_points"]
+    assert nodes, f"{path} lacks test_to_road_points"
+    numpy_used = types.SimpleNamespace(math=math, cos=np.cos, sin=np.sin)
+    namespace = {"np": numpy_used}
+    exec(compile(ast.Module(body=nodes, type_ignores=[]), path, "exec"), namespace)
+    return namespace["test_to_road_points"]
 
 
-def roads(interpolate, rng):
+def roads(interpolate, road_points, rng):
     """(how it was made, interpolated points) for roads of many kinds: straight and curling
     further than half a revolution either way, of the paper's length and longer, short ones of
     fewer points than the measure picks, and lengths whose picked indices fall on halves."""
@@ -86,11 +91,12 @@ def roads(interpolate, rng):
         for _ in range(count):
             curvature = [rng.uniform(-0.07, 0.07) for _ in range(values)]
             made.append((f"{values} random curvature values {step_m:g} m apart",
-                         curvature_road(curvature, step_m)))
+                         road_points(np.array(curvature), step_m, 200)))
     # Curling: one long bend either way, further than half a revolution from the start.
     for sign in (1, -1, 1, -1):
         values = [sign * rng.uniform(0.04, 0.05) for _ in range(20)]
-        made.append(("one bend past half a revolution", curvature_road(values, 10.0)))
+        made.append(("one bend past half a revolution",
+                     road_points(np.array(values), 10.0, 200)))
     made.append(("straight", [(100.0, 10.0), (100.0, 60.0), (100.0, 140.0)]))
     made.append(("short: fewer points than picked", [(100.0, 10.0), (101.0, 25.0), (108.0, 38.0)]))
     result = [(kind, [list(p[:2]) for p in interpolate(points)]) for kind, points in made]
@@ -117,7 +123,7 @@ def main():
     from code_pipeline.tests_generation import _interpolate
 
     rng = random.Random(20221127)
-    made = roads(_interpolate, rng)
+    made = roads(_interpolate, stgem_road_points(args.stgem), rng)
     lines = [points for _, points in made]
     pairs = [
         [i, j, float(measure(_Repository([lines[i], lines[j]]), 75, 0.05))]

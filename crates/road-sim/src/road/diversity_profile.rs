@@ -27,20 +27,14 @@ pub fn diversity_profile(interpolated: &[Point]) -> Vec<f64> {
 }
 
 /// `count` points of `line` (at least one point) at indices `i × (len − 1) / (count − 1)`
-/// rounded half to even (numpy's `round` over `linspace`), the last index exactly `len − 1`.
+/// rounded half to even (numpy's `round` over `linspace`).
 fn pick_by_index(line: &[Point], count: usize) -> Vec<Point> {
     let last = line.len() - 1;
     let step = last as f64 / (count - 1) as f64;
+    // The product is within a rounding error of [0, last], so the rounded index is in range
+    // (the last one `last` exactly, as numpy's `linspace` ends on its stop).
     (0..count)
-        .map(|i| {
-            let index = if i + 1 == count {
-                last
-            } else {
-                // At most `last`: the product lies in [0, last] and rounding keeps it there.
-                (i as f64 * step).round_ties_even() as usize
-            };
-            line[index]
-        })
+        .map(|i| line[(i as f64 * step).round_ties_even() as usize])
         .collect()
 }
 
