@@ -331,9 +331,10 @@ FIELD_ROWS = [("tests executed", "tests"), ("failures", "failures"),
               ("lane exits over the centre line (left)", "exits left"),
               ("lane exits over the road's edge (right)", "exits right"),
               ("sparseness mean over the OOBs it places", "sparseness"),
-              ("diversity (", "diversity"), ("distinct failures (", "distinct failures"),
+              ("diversity (", "diversity"), ("angle diversity (", "angle diversity"),
+              ("distinct failures (", "distinct failures"),
               ("failing road length", "failing road length (m)")]
-FIELD_COMPARED = ("failures per run", "diversity", "distinct failures per run")
+FIELD_COMPARED = ("failures per run", "diversity", "angle diversity", "distinct failures per run")
 
 
 def rounded(text):
@@ -400,7 +401,10 @@ def field_section():
         "`ALGORITHMS=preset-sbst`). Every figure is `wogan report`'s, computed the same way for "
         "every run: means over runs (their number in brackets). The diversity is the WOGAN authors' "
         "measure as their code computes it (docs/reference.md, \"Diversity\"; this page gave it "
-        "with the headings unwrapped until 2026-11-27). The peers' seeds seed Python's and "
+        "with the headings unwrapped until 2026-11-27); the angle diversity is the same median with "
+        "each direction difference taken as the angle between the two directions, so that roads "
+        "heading back alike (angles near +π and near −π) count as near (docs/experiments/"
+        "2026-11-27-wrap-and-shape.md). The peers' seeds seed Python's and "
         "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated, and a run "
         "of it takes 26–45 minutes against one or two of the other tools', so it has fewer runs.")
     for oracle in ORACLES:
@@ -443,7 +447,7 @@ def field_section():
 # ---------------------------------------------------------------------------------------------
 # The `sbst` preset (issue 38) against the preset without niches, the paper's WOGAN and each peer
 # whose runs are on the machine, under the competition's budgets.
-PRESET_COMPARED = ("failures per run", "distinct failures per run", "diversity",
+PRESET_COMPARED = ("failures per run", "distinct failures per run", "diversity", "angle diversity",
                    "sparseness mean over the OOBs it places")
 
 

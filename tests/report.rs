@@ -367,6 +367,12 @@ fn report_numbers_match_hand_computation() {
     // `euclidean_diversity` on the pipeline's interpolation of their roads) is 3.2755; the
     // fixture's summary record, written before wogan computed it as they do, says 3.2861.
     assert!(report.contains("| 3.276 | – | 1 |"), "{report}");
+    // No two of the five point more than half a turn apart anywhere, so taking each difference
+    // as the angle between the directions changes nothing.
+    assert!(
+        report.contains("the angle between the directions) | 3.276 | – | 1 |"),
+        "{report}"
+    );
     // Seed 3 fails first at test 23, then 4 of the 7 tests after it; seed 4 at test 5, then none
     // of 25: means 14 and 0.286, SDs sqrt(2 * 9^2) = 12.728 and sqrt(2 * 0.2857^2) = 0.404.
     assert!(
@@ -1149,6 +1155,7 @@ fn a_result_folder_reads_as_the_run_it_was_exported_from() {
     assert_ne!(distinct.0, "0.000 (–) n=1");
     for measure in [
         "diversity",
+        "angle diversity",
         "first failing test (a run without one: tests executed + 1)",
         "tests generated (handed to execution)",
         "lane exits over the centre line (left)",

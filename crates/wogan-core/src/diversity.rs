@@ -31,7 +31,15 @@ pub fn euclidean(a: &[f64], b: &[f64]) -> f64 {
 /// Median pairwise Euclidean distance of `vectors` (all of one length): exact for up to
 /// [`EXACT_UP_TO`] vectors, else from [`SAMPLED_PAIRS`] distinct-index pairs drawn with `seed`.
 pub fn median_pairwise_distance(vectors: &[Vec<f64>], seed: u64) -> Diversity {
-    let distance = euclidean;
+    median_pairwise_distance_by(vectors, seed, euclidean)
+}
+
+/// [`median_pairwise_distance`] with another `distance` of two vectors (the same pairs).
+pub fn median_pairwise_distance_by(
+    vectors: &[Vec<f64>],
+    seed: u64,
+    distance: impl Fn(&[f64], &[f64]) -> f64,
+) -> Diversity {
     let n = vectors.len();
     let (mut distances, pairs) = if n <= EXACT_UP_TO {
         let all = (0..n)
@@ -92,6 +100,12 @@ mod tests {
             .collect();
         let sampled = median_pairwise_distance(&vectors, 7);
         assert_eq!(sampled.pairs, "sampled");
+        // Another distance is taken over the same pairs: twice the distance, twice the median.
+        let doubled = median_pairwise_distance_by(&vectors, 7, |a, b| 2.0 * euclidean(a, b));
+        assert_eq!(
+            doubled.median_distance,
+            sampled.median_distance.map(|d| 2.0 * d)
+        );
         assert_eq!(sampled, median_pairwise_distance(&vectors, 7));
         let exact = median_pairwise_distance(&vectors[..2_000], 7)
             .median_distance

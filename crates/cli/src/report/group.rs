@@ -7,11 +7,11 @@ use crate::run_file::RunFile;
 use crate::sbst::metrics::SbstMeasures;
 use rayon::prelude::*;
 use road_sim::distinct::{distinct, ExitProfile, DELTA_RAD};
-use road_sim::road::diversity_profile::diversity_profile;
+use road_sim::road::diversity_profile::{angle_distance, diversity_profile};
 use road_sim::Road;
 use road_sim::SimResult;
 use std::collections::BTreeSet;
-use wogan_core::diversity::median_pairwise_distance;
+use wogan_core::diversity::{median_pairwise_distance, median_pairwise_distance_by};
 use wogan_core::Phase;
 
 /// Width of a MAX_CURV coverage bin, 1/m.
@@ -37,6 +37,10 @@ pub struct RunMeasures {
     /// The paper's diversity: median pairwise distance of the failing roads' diversity profiles
     /// ([`diversity_profile`]); `None` below two failures.
     pub diversity: Option<f64>,
+    /// The paper's diversity with each direction difference taken as the angle between the
+    /// directions ([`angle_distance`]), so that roads heading back alike are near; `None` below
+    /// two failures.
+    pub angle_diversity: Option<f64>,
     /// Distinct failures: the greedy count of failing roads whose exit profiles lie at least
     /// [`DELTA_RAD`] apart ([`road_sim::distinct`]); `None` when a failing test's record does not
     /// say where the car left its lane (runs written before wogan recorded it).
@@ -115,6 +119,8 @@ impl RunMeasures {
             simulated_s,
             training_s: run.train_ms / 1000.0,
             diversity: median_pairwise_distance(&profiles, seed).median_distance,
+            angle_diversity: median_pairwise_distance_by(&profiles, seed, angle_distance)
+                .median_distance,
             distinct_failures: distinct_failures(&run.tests),
             failures_per_simulated_hour: (simulated_s > 0.0)
                 .then(|| failures as f64 * 3600.0 / simulated_s),
@@ -232,6 +238,8 @@ pub struct GroupFigures {
     pub training_s: Spread,
     /// Diversity over the runs with at least two failures.
     pub diversity: Spread,
+    /// Angle diversity over the runs with at least two failures.
+    pub angle_diversity: Spread,
     /// Distinct failures per run (runs that say where their cars left the lane).
     pub distinct_failures: Spread,
     /// DIR_COV buckets (k of k/26) hit by the failing tests.
@@ -285,6 +293,7 @@ impl GroupFigures {
             simulated_s: Spread::of(&column(|m| Some(m.simulated_s))),
             training_s: Spread::of(&column(|m| Some(m.training_s))),
             diversity: Spread::of(&column(|m| m.diversity)),
+            angle_diversity: Spread::of(&column(|m| m.angle_diversity)),
             distinct_failures: Spread::of(&column(|m| m.distinct_failures.map(|n| n as f64))),
             dir_cov_buckets,
             dir_cov,

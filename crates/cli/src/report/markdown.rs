@@ -182,8 +182,12 @@ fn group(number_1: usize, section: &GroupSection) -> String {
     text.push_str(&spread_row("training time per run (s)", &f.training_s));
     text.push_str(&spread_row("simulated time per run (s)", &f.simulated_s));
     text.push_str(&spread_row(
-        "diversity (median pairwise heading-profile distance of failing roads; runs with ≥ 2 failures)",
+        "diversity (the paper's: median pairwise distance of failing roads' directions; runs with ≥ 2 failures)",
         &f.diversity,
+    ));
+    text.push_str(&spread_row(
+        "angle diversity (the same, each direction difference the angle between the directions)",
+        &f.angle_diversity,
     ));
     text.push_str(&spread_row(DISTINCT_FAILURES, &f.distinct_failures));
     for (name, measure) in YIELD.into_iter().chain(EXPLOITATION) {
@@ -299,9 +303,10 @@ pub fn comparison_table(
         String::from("| measure | A mean (SD) | B mean (SD) | U of A | p (two-sided) | method |\n");
     text.push_str("|---|---|---|---|---|---|\n");
     // The means shown are those of the samples the test compares.
-    let outcomes: [(&str, Measure); 3] = [
+    let outcomes: [(&str, Measure); 4] = [
         ("failures per run", |m| Some(m.failures as f64)),
         ("diversity", |m| m.diversity),
+        ("angle diversity", |m| m.angle_diversity),
         ("distinct failures per run", |m| {
             m.distinct_failures.map(|n| n as f64)
         }),

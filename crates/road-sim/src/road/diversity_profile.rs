@@ -8,8 +8,14 @@
 //! apart, so the two nearly agree), and the angles are not unwrapped, so a road that turns further
 //! than half a revolution from its start jumps by a whole turn. The search compares roads by the
 //! unwrapped heading profile, which is continuous in the road; this module is only the measure.
+//!
+//! Beside the authors' distance (Euclidean over the angles as plain numbers), [`angle_distance`]
+//! takes each difference as the angle between the two directions, so that two roads both heading
+//! back the way they came (angles near +π and near −π) are near, as they look; `wogan report`
+//! gives the median of both (docs/reference.md, "Diversity").
 
 use super::Point;
+use std::f64::consts::{PI, TAU};
 
 /// Points picked from each road (so its description has one value fewer).
 pub const DIVERSITY_POINTS: usize = 75;
@@ -24,6 +30,19 @@ pub fn diversity_profile(interpolated: &[Point]) -> Vec<f64> {
         .windows(2)
         .map(|w| (w[1][0] - w[0][0]).atan2(w[1][1] - w[0][1]))
         .collect()
+}
+
+/// The distance of two descriptions (of one length) with each difference taken as the angle
+/// between the two directions, folded into [−π, π]: the Euclidean norm of those angles.
+pub fn angle_distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| {
+            let between = (x - y + PI).rem_euclid(TAU) - PI;
+            between * between
+        })
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// `count` points of `line` (at least one point) at indices `i × (len − 1) / (count − 1)`
@@ -60,7 +79,7 @@ fn turn_to_north(points: &[Point]) -> Vec<Point> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::{FRAC_PI_2, PI, TAU};
+    use std::f64::consts::FRAC_PI_2;
 
     /// `count` points on a circle of `radius` from (radius, 0) counterclockwise over `turn_rad`.
     fn arc(radius: f64, turn_rad: f64, count: usize) -> Vec<Point> {
@@ -99,6 +118,20 @@ mod tests {
             .count();
         assert_eq!(jumps, 1);
         assert!(profile.windows(2).any(|w| (w[1] - w[0] - TAU).abs() < 0.2));
+    }
+
+    #[test]
+    fn angle_distance_takes_the_angle_between_directions() {
+        // Both roads head nearly back: a whole turn apart as numbers, 0.08 rad as directions.
+        let (a, b) = ([3.1, 0.0], [-3.1, 0.0]);
+        assert!((angle_distance(&a, &b) - (TAU - 6.2)).abs() < 1e-12);
+        // Where every difference is at most half a turn the two distances agree.
+        let (c, d) = ([0.5, -1.0], [-1.0, 2.0]);
+        assert!((angle_distance(&c, &d) - (1.5f64.hypot(3.0))).abs() < 1e-12);
+        // Turned 2 rad left and 2 rad right, the directions are 2π − 4 apart.
+        assert!((angle_distance(&[2.0], &[-2.0]) - (TAU - 4.0)).abs() < 1e-12);
+        assert_eq!(angle_distance(&c, &d), angle_distance(&d, &c));
+        assert_eq!(angle_distance(&a, &a), 0.0);
     }
 
     #[test]
