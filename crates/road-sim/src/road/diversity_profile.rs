@@ -15,7 +15,7 @@
 //! gives the median of both (docs/reference.md, "Diversity").
 
 use super::Point;
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Points picked from each road (so its description has one value fewer).
 pub const DIVERSITY_POINTS: usize = 75;
@@ -65,7 +65,7 @@ fn turn_to_north(points: &[Point]) -> Vec<Point> {
     let Some(second) = points.get(1) else {
         return vec![[0.0, 0.0]];
     };
-    let angle = std::f64::consts::FRAC_PI_2 - (second[1] - first[1]).atan2(second[0] - first[0]);
+    let angle = FRAC_PI_2 - (second[1] - first[1]).atan2(second[0] - first[0]);
     let (sin, cos) = (angle.sin(), angle.cos());
     points
         .iter()
@@ -79,7 +79,6 @@ fn turn_to_north(points: &[Point]) -> Vec<Point> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::FRAC_PI_2;
 
     /// `count` points on a circle of `radius` from (radius, 0) counterclockwise over `turn_rad`.
     fn arc(radius: f64, turn_rad: f64, count: usize) -> Vec<Point> {
