@@ -6,7 +6,7 @@
 
 use road_sim::road::curvature::DEFAULT_STEP_M;
 use road_sim::{DriverKind, RoadPlacement};
-use wogan_core::{NicheConfig, NoveltyConfig, RunConfig};
+use wogan_core::{BetweenNiches, NicheConfig, NoveltyConfig, RunConfig};
 
 /// A named set of search settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -131,6 +131,7 @@ impl SbstSettings {
                     radius: 1.0,
                     patience: 40,
                     min_fitness: 0.0,
+                    between: BetweenNiches::Model,
                 },
             },
             // The paper's 75 m roads all fail alike on this driver (out of one long right-hand
@@ -148,6 +149,7 @@ impl SbstSettings {
                     radius: 1.0,
                     patience: 0,
                     min_fitness: 0.0,
+                    between: BetweenNiches::Model,
                 },
                 ..Self::without_niches(setup)
             },

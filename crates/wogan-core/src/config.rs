@@ -351,6 +351,20 @@ pub struct NicheConfig {
     /// Tests of at least this fitness are the failures that seed and fill niches (the SUT's
     /// failure threshold).
     pub min_fitness: f64,
+    /// Where the candidates ranked between niches come from.
+    pub between: BetweenNiches,
+}
+
+/// Where the candidates ranked between niches, in the search for the next seed, come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum BetweenNiches {
+    /// The generator and reshaped mutants of the best tests, as inside a niche.
+    #[default]
+    Model,
+    /// Random tests drawn as in the random phase, ranked by the analyzer: the generator has
+    /// learnt the niches found so far, random tests lie anywhere.
+    Random,
 }
 
 impl Default for NoveltyConfig {

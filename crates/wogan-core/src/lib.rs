@@ -111,7 +111,9 @@
 //! only candidates inside it are ranked and only its failures are mutation parents. Once it holds
 //! `quota` failures it closes, and only candidates at least [`NicheConfig::distance`] from every
 //! seed are ranked until a failure there seeds the next niche (or, after
-//! [`NicheConfig::patience`] tests, the failure met farthest from the seeds). A run ends with a
+//! [`NicheConfig::patience`] tests, the failure met farthest from the seeds); those candidates
+//! come from the generator and mutants, or ([`BetweenNiches::Random`]) are random tests ranked by
+//! the analyzer. A run ends with a
 //! few regions of failures about equal in size, far apart by shape. Off by default, and for a SUT
 //! without shapes.
 //!
@@ -137,8 +139,9 @@ mod stgem_parity;
 
 pub use budget::{Budget, SbstBudget, SbstUsage};
 pub use config::{
-    limits, Algorithm, AnalyzerConfig, CriticConfig, GeneratorConfig, MutationConfig, NicheConfig,
-    NoveltyConfig, RoundAcceptance, RunConfig, SamplerConfig, WganConfig, WoganConfig,
+    limits, Algorithm, AnalyzerConfig, BetweenNiches, CriticConfig, GeneratorConfig,
+    MutationConfig, NicheConfig, NoveltyConfig, RoundAcceptance, RunConfig, SamplerConfig,
+    WganConfig, WoganConfig,
 };
 pub use error::Error;
 pub use run::{run, run_from_snapshot, run_with_snapshot, Event, Phase, Summary};

@@ -13,9 +13,11 @@ use super::mutation::{mutate, parent_indices};
 use super::niches::{NicheRole, Niches};
 use super::novelty::is_novel;
 use super::training_round::{AnalyzerSteps, TrainingData};
-use crate::config::{MutationConfig, WoganConfig};
+use crate::config::{BetweenNiches, MutationConfig, WoganConfig};
 use crate::error::Error;
-use crate::nets::{logit_target, uniform_noise, Analyzer, AnalyzerTrainer, Generator, Wgan};
+use crate::nets::{
+    logit_target, uniform_noise, Analyzer, AnalyzerTrainer, Generator, Matrix, Wgan,
+};
 use crate::sut::Sut;
 use crate::test_sampler::Sampler;
 
@@ -383,9 +385,15 @@ impl WoganModel {
             if !sampler.should_go_on() {
                 return Err(Error::Interrupted);
             }
-            let noise = uniform_noise(rng, batch, noise_dim);
-            let mut cands = generator.infer(&noise);
-            let is_mutant = self.mix_in_mutants(&mut cands.data, &parents, rng);
+            let (cands, is_mutant) = if self.draws_random_candidates() {
+                let data: Vec<f32> = (0..batch).flat_map(|_| sampler.sample(rng)).collect();
+                (Matrix::new(data, batch, self.dim), vec![false; batch])
+            } else {
+                let noise = uniform_noise(rng, batch, noise_dim);
+                let mut cands = generator.infer(&noise);
+                let is_mutant = self.mix_in_mutants(&mut cands.data, &parents, rng);
+                (cands, is_mutant)
+            };
             let pred = analyzer.predict(&cands);
             for ((c, p), mutant) in cands.data.chunks_exact(self.dim).zip(pred).zip(is_mutant) {
                 let is_invalid = !sut.is_valid(c);
@@ -424,6 +432,13 @@ impl WoganModel {
                 }
             }
         }
+    }
+
+    /// Whether this proposal's candidates are random tests: between niches, when so configured.
+    fn draws_random_candidates(&self) -> bool {
+        self.cfg.niches.between == BetweenNiches::Random
+            && self.niches.constrain()
+            && !self.niches.is_open()
     }
 
     /// Replaces each candidate, with probability `mutation.share`, by a mutant of one of the
@@ -770,6 +785,7 @@ mod tests {
             radius: 0.4,
             patience: 0,
             min_fitness: 0.5,
+            between: BetweenNiches::Model,
         };
         let sampler = Sampler::new(3, SamplerConfig::default());
         let mut near_closed_seed = Vec::new();
@@ -819,5 +835,60 @@ mod tests {
         );
         // Without niches the same search proposes roads there: the rule is what keeps them out.
         assert!(near_closed_seed[1]);
+    }
+
+    #[test]
+    fn between_niches_random_candidates_are_the_samplers_draws() {
+        // One niche of 3 failures, closed: the next proposal comes from between niches.
+        let cfg = |between| WoganConfig {
+            niches: crate::NicheConfig {
+                quota: 3,
+                distance: 0.5,
+                radius: 0.2,
+                patience: 0,
+                min_fitness: 0.5,
+                between,
+            },
+            mutation: crate::MutationConfig {
+                share: 0.5,
+                ..crate::MutationConfig::default()
+            },
+            ..WoganConfig::default()
+        };
+        let sampler = Sampler::new(3, SamplerConfig::default());
+        let proposal_and_draws = |between| {
+            let mut rng = ChaCha20Rng::seed_from_u64(5);
+            let mut model = WoganModel::new(3, &cfg(between), &mut rng);
+            // Three failures near one another fill the first niche.
+            let first = [0.2f32, -0.1, 0.3];
+            for k in 0..12 {
+                let mut t = sampler.sample(&mut rng);
+                let fails = k < 3;
+                if fails {
+                    for (v, f) in t.iter_mut().zip(first) {
+                        *v = f + 0.05 * (*v - f);
+                    }
+                }
+                model.add_executed(&Summed, &t, if fails { 0.9 } else { 0.1 });
+            }
+            model.train(0.0, &mut rng).unwrap();
+            assert_eq!(model.closed_niches(), 1);
+            // What the sampler would draw from here on, for as many candidates as the
+            // acceptance rule can rank before its target reaches any prediction.
+            let mut replay = rng.clone();
+            let draws: Vec<Vec<f32>> = (0..4096).map(|_| sampler.sample(&mut replay)).collect();
+            let p = model.propose(&Summed, &sampler, &mut rng).unwrap();
+            (p, draws)
+        };
+        let (random, draws) = proposal_and_draws(BetweenNiches::Random);
+        assert!(random.predicted.is_some(), "ranked, not a fallback");
+        assert!(!random.mutant);
+        assert!(
+            draws.contains(&random.test),
+            "not one of the sampler's draws"
+        );
+        // The model's proposal is the generator's or a mutant's, not a random walk.
+        let (model, draws) = proposal_and_draws(BetweenNiches::Model);
+        assert!(!draws.contains(&model.test));
     }
 }

@@ -12,7 +12,8 @@
 //! - Once the niche holds `quota` failures it is closed. Until another opens, only candidates at
 //!   least `distance` from every seed so far are ranked, and the first failure found there seeds
 //!   the next niche; candidates inside a closed ball stay skipped. Meanwhile every mutant is
-//!   reshaped (mirrored, reversed or half-swapped): a jump away from its parent, not a step.
+//!   reshaped (mirrored, reversed or half-swapped): a jump away from its parent, not a step;
+//!   or, with [`crate::BetweenNiches::Random`], the candidates are random tests instead.
 //! - Where no such failure is found within `patience` executed tests (the far regions are
 //!   exhausted), the failure found meanwhile farthest from every seed, outside the closed balls,
 //!   seeds the next niche, so that the rest of the budget is still spent exploiting.
