@@ -113,9 +113,8 @@
 //! seed are ranked until a failure there seeds the next niche (or, after
 //! [`NicheConfig::patience`] tests, the failure met farthest from the seeds); those candidates
 //! come from the generator and mutants, or ([`BetweenNiches::Random`]) are random tests ranked by
-//! the analyzer. A run ends with a
-//! few regions of failures about equal in size, far apart by shape. Off by default, and for a SUT
-//! without shapes.
+//! the analyzer. A run ends with a few regions of failures about equal in size, far apart by
+//! shape. Off by default, and for a SUT without shapes.
 //!
 //! # The critic
 //!
