@@ -9,8 +9,9 @@ means per run, the authors' measure beside the same median pairwise distance wit
 direction difference taken as the angle between the two directions (folded into [-pi, pi]), the
 same with the headings unwrapped, the share of direction samples within `--back-rad` of
 heading back, and how the authors' pairs split: the share nearer than `--near` (near copies) and
-the median of the others (docs/experiments/2026-11-27-random-between-niches.md). Roads are the driven ones, as failure_profiles.py loads them (a run file's
-`road_points` through the pipeline's `_interpolate`, a result folder's `interpolated_points`):
+the median of the others (docs/experiments/2026-11-27-random-between-niches.md). Roads are the
+driven ones, as failure_profiles.py loads them (a run file's `road_points` through the
+pipeline's `_interpolate`, a result folder's `interpolated_points`):
 
     python3 scripts/experiments/direction_measures.py --pipeline ~/peers/pipeline \
         "preset sbst=target/sbst/beamng-ai-proxy.preset-sbst.*.jsonl" \

@@ -362,7 +362,10 @@ impl WoganModel {
             .ok_or_else(|| Error::Config("WOGAN must be trained before it proposes".into()))?;
         let noise_dim = self.cfg.generator.noise_dim;
         let batch = self.cfg.candidate_batch;
-        let parents = if self.cfg.mutation.share > 0.0 {
+        // Between niches, when so configured, the candidates are random tests (and no mutants).
+        let random_candidates =
+            self.cfg.niches.between == BetweenNiches::Random && self.niches.are_between();
+        let parents = if self.cfg.mutation.share > 0.0 && !random_candidates {
             parent_indices(
                 &self.tests,
                 self.dim,
@@ -385,7 +388,7 @@ impl WoganModel {
             if !sampler.should_go_on() {
                 return Err(Error::Interrupted);
             }
-            let (cands, is_mutant) = if self.draws_random_candidates() {
+            let (cands, is_mutant) = if random_candidates {
                 let data: Vec<f32> = (0..batch).flat_map(|_| sampler.sample(rng)).collect();
                 (Matrix::new(data, batch, self.dim), vec![false; batch])
             } else {
@@ -434,13 +437,6 @@ impl WoganModel {
         }
     }
 
-    /// Whether this proposal's candidates are random tests: between niches, when so configured.
-    fn draws_random_candidates(&self) -> bool {
-        self.cfg.niches.between == BetweenNiches::Random
-            && self.niches.constrain()
-            && !self.niches.is_open()
-    }
-
     /// Replaces each candidate, with probability `mutation.share`, by a mutant of one of the
     /// `parents` (test indices); says which candidates are mutants.
     fn mix_in_mutants<R: Rng + ?Sized>(
@@ -452,7 +448,7 @@ impl WoganModel {
         // Between niches every mutant is reshaped: the search needs a jump far from the seeds
         // so far (a mirrored failure, say), not a small step beside one.
         let reshaped;
-        let mutation = if self.niches.constrain() && !self.niches.is_open() {
+        let mutation = if self.niches.are_between() {
             reshaped = MutationConfig {
                 reshape_probability: 1.0,
                 ..self.cfg.mutation.clone()

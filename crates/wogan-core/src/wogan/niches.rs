@@ -98,6 +98,11 @@ impl Niches {
         self.is_open() || self.closed > 0
     }
 
+    /// Whether the search is between niches: one was closed and the next is not yet open.
+    pub(crate) fn are_between(&self) -> bool {
+        !self.is_open() && self.closed > 0
+    }
+
     /// Shapes of the seeds, each `len` values.
     fn seed_shapes(&self, len: usize) -> std::slice::ChunksExact<'_, f32> {
         self.seeds.chunks_exact(len.max(1))
@@ -128,7 +133,7 @@ impl Niches {
         if !self.are_on() {
             return;
         }
-        let between = !self.is_open() && self.closed > 0;
+        let between = self.are_between();
         if let Some(shape) = failure_shape {
             if self.record_failure(test_index, shape, roles) {
                 return;
