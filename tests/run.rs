@@ -486,9 +486,46 @@ fn niches_fill_with_the_runs_own_failures_unless_told_and_bad_settings_are_named
             r#"{"search": {"wogan": {"niches": {"qouta": 5}}}}"#,
             "qouta",
         ),
+        (
+            "stale.json",
+            r#"{"search": {"wogan": {"niches": {"quota": 5, "radius": 1.0, "stale": 3}}}}"#,
+            "wogan.niches.repeat_distance",
+        ),
     ] {
         assert_config_refused(&write(name, json), named);
     }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn niches_closed_on_repeats_compare_the_roads_exit_profiles() {
+    let dir = scratch_dir("stale-niches");
+    let stale = dir.join("stale.json");
+    // Over the preset's niches (which give the repeat distance): the first repeat closes one.
+    std::fs::write(&stale, r#"{"search": {"wogan": {"niches": {"stale": 1}}}}"#).unwrap();
+    let tests_of = |extra: &[&str]| {
+        let mut args = vec!["--preset", "sbst", "--max-tests", "150", "--seed", "1"];
+        args.extend_from_slice(extra);
+        let (code, records) = run(&args);
+        assert_eq!(code, Some(0));
+        let tests: Vec<Value> = of_type(&records, "test")
+            .into_iter()
+            .map(|t| t["curvature"].clone())
+            .collect();
+        (
+            records[0]["config"]["search"]["wogan"]["niches"].clone(),
+            tests,
+        )
+    };
+    let (preset, preset_tests) = tests_of(&[]);
+    let (closing, closing_tests) = tests_of(&["--config", stale.to_str().unwrap()]);
+    assert_eq!(preset["stale"], 0);
+    assert_eq!(closing["stale"], 1);
+    assert_eq!(closing["repeat_distance"], preset["repeat_distance"]);
+    // The random phase is the same; the search parts once a failure repeats an earlier one by
+    // its exit profile (without profiles from the roads nothing would ever repeat).
+    assert_eq!(closing_tests[..20], preset_tests[..20]);
+    assert_ne!(closing_tests, preset_tests);
     std::fs::remove_dir_all(&dir).ok();
 }
 

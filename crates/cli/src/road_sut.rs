@@ -5,6 +5,7 @@
 
 use crate::failure_streak::FailureStreak;
 use crate::records::RoadExecution;
+use road_sim::distinct::ExitProfile;
 use road_sim::road::curvature::MAX_CURVATURE_PER_M;
 use road_sim::road::heading_profile::heading_profile;
 use road_sim::{
@@ -66,6 +67,14 @@ impl Sut for RoadSut<'_> {
                 .map(|h| h as f32)
                 .collect(),
         )
+    }
+
+    /// The exit profile around where the car left its lane (radians; the distinct failures'
+    /// measure, so that a repeat is what `wogan report` would not count as a new failure).
+    fn failure_profile(&self, output: &RoadExecution) -> Option<Vec<f32>> {
+        let exit = output.result.oob?;
+        let profile = ExitProfile::of(&output.interpolated, [exit.x, exit.y])?;
+        Some(profile.headings().iter().map(|&h| h as f32).collect())
     }
 
     fn execute(&self, test: &[f32]) -> Option<Execution<RoadExecution>> {

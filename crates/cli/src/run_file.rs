@@ -232,6 +232,13 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
         if let Some(patience) = setting("niches/patience").filter(|&p| p > 0.0) {
             text.push_str(&format!(" or after {patience} tests"));
         }
+        let between = config.pointer("/search/wogan/niches/between");
+        if between.and_then(Value::as_str) == Some("random") {
+            text.push_str(", random between");
+        }
+        if let Some(stale) = setting("niches/stale").filter(|&s| s > 0.0) {
+            text.push_str(&format!(", closed after {stale} repeats"));
+        }
     }
     // Rounds of several tests change which tests are chosen (one job is the paper's loop).
     let jobs = config.pointer("/search/jobs").and_then(Value::as_u64);
@@ -442,6 +449,13 @@ mod tests {
         assert_eq!(
             niches.acceptance,
             "decay 0.95, niches of 60 within 0.75 seeded 2.5 apart or after 40 tests"
+        );
+        let stale = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0},"search":{"wogan":{"target_decay":0.95,"niches":{"quota":60,"distance":2.5,"radius":0.75,"min_fitness":0.85,"patience":0,"between":"random","stale":10,"repeat_distance":0.1}}}}"#,
+        );
+        assert_eq!(
+            stale.acceptance,
+            "decay 0.95, niches of 60 within 0.75 seeded 2.5 apart, random between, closed after 10 repeats"
         );
         let fitted = key_of(
             r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"search":{"wogan":{"target_decay":0.95}}}"#,

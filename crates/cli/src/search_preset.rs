@@ -4,6 +4,7 @@
 //! The defaults stay the paper's WOGAN, so that parity with the authors' implementation holds;
 //! a preset is a measured choice for a purpose, and its figures are in docs/results.md.
 
+use road_sim::distinct::DELTA_RAD;
 use road_sim::road::curvature::DEFAULT_STEP_M;
 use road_sim::{DriverKind, RoadPlacement};
 use wogan_core::{BetweenNiches, NicheConfig, NoveltyConfig, RunConfig};
@@ -132,6 +133,8 @@ impl SbstSettings {
                     patience: 40,
                     min_fitness: 0.0,
                     between: BetweenNiches::Model,
+                    stale: 0,
+                    repeat_distance: DELTA_RAD as f32,
                 },
             },
             // The paper's 75 m roads all fail alike on this driver (out of one long right-hand
@@ -150,6 +153,8 @@ impl SbstSettings {
                     patience: 0,
                     min_fitness: 0.0,
                     between: BetweenNiches::Model,
+                    stale: 0,
+                    repeat_distance: DELTA_RAD as f32,
                 },
                 ..Self::without_niches(setup)
             },

@@ -353,6 +353,40 @@ pub struct NicheConfig {
     pub min_fitness: f64,
     /// Where the candidates ranked between niches come from.
     pub between: BetweenNiches,
+    /// A niche is closed before its quota once this many of its failures in a row were repeats:
+    /// each within `repeat_distance` of a failure found before it, by the SUT's failure profile
+    /// ([`crate::Sut::failure_profile`]; 0: never, the quota alone closes a niche).
+    pub stale: usize,
+    /// Two failures whose profiles lie nearer than this are one failure found twice (root mean
+    /// square of the profile differences, the profile's units: radians for a road's exit profile).
+    pub repeat_distance: f32,
+}
+
+impl NicheConfig {
+    /// Whether these settings make niches: a quota and a radius.
+    pub fn are_on(&self) -> bool {
+        self.quota > 0 && self.radius > 0.0
+    }
+
+    /// Whether niches close when they stop yielding new failures, and so want failing
+    /// executions' profiles ([`crate::Sut::failure_profile`]).
+    pub fn want_failure_profiles(&self) -> bool {
+        self.are_on() && self.stale > 0
+    }
+
+    /// The profile of a failing execution `output` of `fitness` when the niches want it.
+    pub(crate) fn failure_profile<S: crate::Sut + ?Sized>(
+        &self,
+        sut: &S,
+        fitness: f64,
+        output: &S::Output,
+    ) -> Option<Vec<f32>> {
+        if self.want_failure_profiles() && fitness >= self.min_fitness {
+            sut.failure_profile(output)
+        } else {
+            None
+        }
+    }
 }
 
 /// Where the candidates ranked between niches, in the search for the next seed, come from.
@@ -523,6 +557,20 @@ impl RunConfig {
         }
         check_real(n.min_fitness, "wogan.niches.min_fitness", 0.0, 1.0)?;
         check_count(n.patience, "wogan.niches.patience", 0, MAX_ATTEMPTS)?;
+        check_count(n.stale, "wogan.niches.stale", 0, MAX_ATTEMPTS)?;
+        check_real(
+            f64::from(n.repeat_distance),
+            "wogan.niches.repeat_distance",
+            0.0,
+            MAX_SHAPE_NOVELTY_DISTANCE,
+        )?;
+        if n.stale > 0 && n.repeat_distance <= 0.0 {
+            return Err(Error::Config(format!(
+                "wogan.niches.stale is {} but wogan.niches.repeat_distance ({}) must be above 0 \
+                 for a failure to count as a repeat",
+                n.stale, n.repeat_distance
+            )));
+        }
         if n.quota > 0 && (n.radius <= 0.0 || n.min_fitness <= 0.0) {
             return Err(Error::Config(format!(
                 "wogan.niches.quota is {} but wogan.niches.radius ({}) and \
@@ -605,5 +653,27 @@ mod tests {
             let message = c.validate().unwrap_err().to_string();
             assert!(message.contains(field), "{json}: {message}");
         }
+    }
+
+    #[test]
+    fn niches_closed_on_repeats_need_a_repeat_distance() {
+        let niches = r#"{"quota": 10, "radius": 1, "min_fitness": 0.5, "stale": 5"#;
+        for (json, field) in [
+            (format!("{niches}}}"), "wogan.niches.repeat_distance"),
+            (
+                format!(r#"{niches}, "repeat_distance": -0.1}}"#),
+                "wogan.niches.repeat_distance",
+            ),
+        ] {
+            let mut c = RunConfig::default();
+            c.wogan.niches = serde_json::from_str(&json).unwrap();
+            let message = c.validate().unwrap_err().to_string();
+            assert!(message.contains(field), "{json}: {message}");
+        }
+        let mut c = RunConfig::default();
+        c.wogan.niches =
+            serde_json::from_str(&format!(r#"{niches}, "repeat_distance": 0.1}}"#)).unwrap();
+        assert!(c.validate().is_ok() && c.wogan.niches.want_failure_profiles());
+        assert!(!RunConfig::default().wogan.niches.want_failure_profiles());
     }
 }

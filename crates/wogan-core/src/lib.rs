@@ -107,14 +107,15 @@
 //! # Beyond the paper: niches
 //!
 //! With [`NicheConfig::quota`] above 0, failures fill niches one after another. A niche is a ball
-//! of [`NicheConfig::radius`] around a seed failure's shape ([`Sut::shape`]); while it is open
-//! only candidates inside it are ranked and only its failures are mutation parents. Once it holds
-//! `quota` failures it closes, and only candidates at least [`NicheConfig::distance`] from every
-//! seed are ranked until a failure there seeds the next niche (or, after
-//! [`NicheConfig::patience`] tests, the failure met farthest from the seeds); those candidates
-//! come from the generator and mutants, or ([`BetweenNiches::Random`]) are random tests ranked by
-//! the analyzer. A run ends with a few regions of failures about equal in size, far apart by
-//! shape. Off by default, and for a SUT without shapes.
+//! of [`NicheConfig::radius`] around a seed failure's shape ([`Sut::shape`]); while it is open only
+//! candidates inside it are ranked and only its failures are mutation parents. Once it holds
+//! `quota` failures (or, with [`NicheConfig::stale`], once that many of its failures in a row
+//! repeat earlier ones by [`Sut::failure_profile`]) it closes, and only candidates at least
+//! [`NicheConfig::distance`] from every seed are ranked until a failure there seeds the next niche
+//! (or, after [`NicheConfig::patience`] tests, the failure met farthest from the seeds); those
+//! candidates come from the generator and mutants, or ([`BetweenNiches::Random`]) are random tests
+//! ranked by the analyzer. A run ends with a few regions of failures about equal in size, far apart
+//! by shape. Off by default, and for a SUT without shapes.
 //!
 //! # The critic
 //!

@@ -34,6 +34,13 @@ pub trait Sut: Sync {
     fn shape(&self, _test: &[f32]) -> Option<Vec<f32>> {
         None
     }
+    /// How a failing execution failed, as values of one length that compare failures where
+    /// they happened (for a road: its exit profile, radians, around where the car left its
+    /// lane); `None`, the default, when the SUT has no such description. Only niches closed when
+    /// they stop yielding new failures use it (`NicheConfig::stale`).
+    fn failure_profile(&self, _output: &Self::Output) -> Option<Vec<f32>> {
+        None
+    }
 }
 
 /// Clamps a reported fitness into `[0, 1]`; NaN becomes 0 so it can never look like a failure.

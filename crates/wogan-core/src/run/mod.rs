@@ -151,8 +151,8 @@ fn run_inner<S: Sut + ?Sized>(
         let mut model = WoganModel::new(dim, &config.wogan, &mut rng);
         // With more than one job the analyzer trains beside the WGAN (the same numbers).
         model.set_concurrent_training(config.jobs > 1);
-        for (t, f) in &executed_tests {
-            model.add_executed(sut, t, *f);
+        for t in &executed_tests {
+            model.add_executed(sut, &t.test, t.fitness, t.failure_profile.as_deref());
         }
         drop(executed_tests);
         let model = wogan_phase(

@@ -19,6 +19,16 @@ use super::events::{test_event, Choice, Event, Phase};
 use super::execution::execute_all;
 use super::ledger::RunLedger;
 
+/// A test of the random phase as a WOGAN run learns from it.
+pub(super) struct ExecutedTest {
+    /// The test's values.
+    pub test: Vec<f32>,
+    /// Its fitness, clamped.
+    pub fitness: f64,
+    /// How it failed, when it did and the niches want to know ([`Sut::failure_profile`]).
+    pub failure_profile: Option<Vec<f32>>,
+}
+
 /// Executes random valid tests until the run (random search) or its random share (WOGAN) ends.
 /// Returns the tests a WOGAN run learns from (none for random search).
 pub(super) fn random_phase<S: Sut + ?Sized>(
@@ -29,10 +39,10 @@ pub(super) fn random_phase<S: Sut + ?Sized>(
     pool: Option<&ThreadPool>,
     r: &mut RunLedger,
     on_event: &mut dyn FnMut(Event<S::Output>),
-) -> Result<Vec<(Vec<f32>, f64)>, Error> {
+) -> Result<Vec<ExecutedTest>, Error> {
     let w = &config.wogan;
     // Random phase: the whole run for `random`, the first share for `wogan`.
-    let mut executed_tests: Vec<(Vec<f32>, f64)> = Vec::new();
+    let mut executed_tests: Vec<ExecutedTest> = Vec::new();
     loop {
         if r.should_stop() {
             break;
@@ -84,7 +94,14 @@ pub(super) fn random_phase<S: Sut + ?Sized>(
             if !charge.beyond_budget {
                 r.summary.executed += 1;
                 if config.algorithm == Algorithm::Wogan {
-                    executed_tests.push((s.test.clone(), fitness));
+                    executed_tests.push(ExecutedTest {
+                        test: s.test.clone(),
+                        fitness,
+                        failure_profile: config
+                            .wogan
+                            .niches
+                            .failure_profile(sut, fitness, &e.output),
+                    });
                 }
             }
             on_event(test_event(

@@ -203,7 +203,9 @@ fn execute_round<S: Sut + ?Sized>(
         r.summary.invalid_candidates += p.invalid;
         r.summary.generation_s += choice_s;
         if !charge.beyond_budget {
-            model.add_executed(sut, &p.test, fitness);
+            let niches = &model.config().niches;
+            let failure_profile = niches.failure_profile(sut, fitness, &e.output);
+            model.add_executed(sut, &p.test, fitness, failure_profile.as_deref());
             learnt += 1;
             r.summary.executed += 1;
         }

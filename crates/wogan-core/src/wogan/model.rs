@@ -149,8 +149,16 @@ impl WoganModel {
     }
 
     /// Records a test `sut` executed and its fitness, with the test's shape when the shape
-    /// novelty rule keeps candidates away from it or it is a failure that fills a niche.
-    pub fn add_executed<S: Sut + ?Sized>(&mut self, sut: &S, test: &[f32], fitness: f64) {
+    /// novelty rule keeps candidates away from it or it is a failure that fills a niche, and its
+    /// `failure_profile` ([`Sut::failure_profile`]) when niches close on repeated failures
+    /// (`NicheConfig::stale`; otherwise it may be `None`).
+    pub fn add_executed<S: Sut + ?Sized>(
+        &mut self,
+        sut: &S,
+        test: &[f32],
+        fitness: f64,
+        failure_profile: Option<&[f32]>,
+    ) {
         let idx = self.len();
         self.add(test, fitness);
         let rule = &self.cfg.shape_novelty;
@@ -167,7 +175,9 @@ impl WoganModel {
         if self.niches.are_on() {
             let mut roles = Vec::new();
             let failure_shape = shape.as_deref().filter(|_| fills_niche);
-            self.niches.record_test(idx, failure_shape, &mut roles);
+            let failure_profile = failure_profile.filter(|_| fills_niche);
+            self.niches
+                .record_test(idx, failure_shape, failure_profile, &mut roles);
             for (test, role) in roles {
                 self.niche_roles[test] = role;
             }
@@ -733,7 +743,7 @@ mod tests {
             if fitness >= rule.min_fitness {
                 failure_shapes.push(Summed.shape(&t).unwrap());
             }
-            model.add_executed(&Summed, &t, fitness);
+            model.add_executed(&Summed, &t, fitness, None);
         }
         model.train(0.0, &mut rng).unwrap();
         let mut ranked = 0;
@@ -782,6 +792,7 @@ mod tests {
             patience: 0,
             min_fitness: 0.5,
             between: BetweenNiches::Model,
+            ..crate::NicheConfig::default()
         };
         let sampler = Sampler::new(3, SamplerConfig::default());
         let mut near_closed_seed = Vec::new();
@@ -812,7 +823,7 @@ mod tests {
                     }
                     seed_shape.get_or_insert_with(|| Summed.shape(&t).unwrap());
                 }
-                model.add_executed(&Summed, &t, fitness);
+                model.add_executed(&Summed, &t, fitness, None);
             }
             assert_eq!(model.closed_niches(), usize::from(quota > 0));
             model.train(0.0, &mut rng).unwrap();
@@ -834,6 +845,36 @@ mod tests {
     }
 
     #[test]
+    fn the_failure_profiles_given_close_a_stale_niche() {
+        let cfg = WoganConfig {
+            niches: crate::NicheConfig {
+                quota: 10,
+                radius: 1.0,
+                min_fitness: 0.5,
+                stale: 2,
+                repeat_distance: 0.1,
+                ..crate::NicheConfig::default()
+            },
+            ..WoganConfig::default()
+        };
+        let closed_after_three_alike = |profile: Option<&[f32]>| {
+            let mut rng = ChaCha20Rng::seed_from_u64(3);
+            let mut model = WoganModel::new(3, &cfg, &mut rng);
+            for k in 0..3 {
+                let t = [0.1 * k as f32, 0.0, 0.0];
+                model.add_executed(&Summed, &t, 0.9, profile);
+                // A passing test's profile is never asked for; one given is not counted.
+                model.add_executed(&Summed, &[0.5, 0.5, 0.5], 0.1, profile);
+            }
+            model.closed_niches()
+        };
+        // The seed and two repeats of it: stale.
+        assert_eq!(closed_after_three_alike(Some(&[0.3, -0.2])), 1);
+        // Without profiles no failure repeats another: the niche stays open below its quota.
+        assert_eq!(closed_after_three_alike(None), 0);
+    }
+
+    #[test]
     fn between_niches_random_candidates_are_the_samplers_draws() {
         // One niche of 3 failures, closed: the next proposal comes from between niches.
         let cfg = |between| WoganConfig {
@@ -844,6 +885,7 @@ mod tests {
                 patience: 0,
                 min_fitness: 0.5,
                 between,
+                ..crate::NicheConfig::default()
             },
             mutation: crate::MutationConfig {
                 share: 0.5,
@@ -865,7 +907,7 @@ mod tests {
                         *v = f + 0.05 * (*v - f);
                     }
                 }
-                model.add_executed(&Summed, &t, if fails { 0.9 } else { 0.1 });
+                model.add_executed(&Summed, &t, if fails { 0.9 } else { 0.1 }, None);
             }
             model.train(0.0, &mut rng).unwrap();
             assert_eq!(model.closed_niches(), 1);

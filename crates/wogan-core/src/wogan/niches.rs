@@ -14,6 +14,9 @@
 //!   the next niche; candidates inside a closed ball stay skipped. Meanwhile every mutant is
 //!   reshaped (mirrored, reversed or half-swapped): a jump away from its parent, not a step;
 //!   or, with [`crate::BetweenNiches::Random`], the candidates are random tests instead.
+//! - With `stale`, a niche also closes before its quota once that many of its failures in a row
+//!   repeat failures found before (their [`crate::Sut::failure_profile`]s lie within
+//!   `repeat_distance`): a region that only re-finds its failures is left for the next.
 //! - Where no such failure is found within `patience` executed tests (the far regions are
 //!   exhausted), the failure found meanwhile farthest from every seed, outside the closed balls,
 //!   seeds the next niche, so that the rest of the budget is still spent exploiting.
@@ -58,6 +61,14 @@ pub(crate) struct Niches {
     /// Between niches, the failure farthest from every seed so far outside the closed balls:
     /// its index, shape and distance from the nearest seed.
     farthest_between: Option<(usize, Vec<f32>, f32)>,
+    /// Repeats in a row among the open niche's failures after which it is closed (0: never).
+    stale: usize,
+    /// Failures whose profiles lie nearer than this are repeats (RMS of the differences).
+    repeat_distance: f32,
+    /// Profiles of the run's failures that were not repeats, flattened, in the order found.
+    new_failure_profiles: Vec<f32>,
+    /// Repeats in a row among the open niche's latest failures.
+    open_repeats: usize,
 }
 
 /// Root mean square of the differences of two shapes of one length.
@@ -74,6 +85,8 @@ impl Niches {
             seed_distance: config.distance,
             radius: config.radius,
             patience: config.patience,
+            stale: config.stale,
+            repeat_distance: config.repeat_distance,
             ..Self::default()
         }
     }
@@ -121,13 +134,15 @@ impl Niches {
         seeds.all(|seed| rms_distance(seed, shape) >= limit)
     }
 
-    /// Records executed test `test_index`, with its shape when it is a failure; `roles` receives
-    /// the tests whose place among the niches this changed (the test itself when it joins or
-    /// seeds a niche, a closed niche's failures, a seed chosen after the patience ran out).
+    /// Records executed test `test_index`, with its shape when it is a failure and, when
+    /// [`NicheConfig::want_failure_profiles`], its failure profile; `roles` receives the tests
+    /// whose place among the niches this changed (the test itself when it joins or seeds a niche,
+    /// a closed niche's failures, a seed chosen after the patience ran out).
     pub(crate) fn record_test(
         &mut self,
         test_index: usize,
         failure_shape: Option<&[f32]>,
+        failure_profile: Option<&[f32]>,
         roles: &mut Vec<(usize, NicheRole)>,
     ) {
         if !self.are_on() {
@@ -135,7 +150,8 @@ impl Niches {
         }
         let between = self.are_between();
         if let Some(shape) = failure_shape {
-            if self.record_failure(test_index, shape, roles) {
+            let repeat = self.is_repeat(failure_profile);
+            if self.record_failure(test_index, shape, repeat, roles) {
                 return;
             }
             if between {
@@ -152,12 +168,30 @@ impl Niches {
         }
     }
 
-    /// Places a failure: in the open niche (closing it at its quota) or as the next seed;
-    /// whether it found a place.
+    /// Whether a failure of this `profile` repeats one found before (within the repeat
+    /// distance); one that does not is remembered. Never a repeat without a profile, or when
+    /// niches do not close on repeats.
+    fn is_repeat(&mut self, profile: Option<&[f32]>) -> bool {
+        let Some(profile) = profile.filter(|p| self.stale > 0 && !p.is_empty()) else {
+            return false;
+        };
+        let repeat = self
+            .new_failure_profiles
+            .chunks_exact(profile.len())
+            .any(|earlier| rms_distance(earlier, profile) < self.repeat_distance);
+        if !repeat {
+            self.new_failure_profiles.extend_from_slice(profile);
+        }
+        repeat
+    }
+
+    /// Places a failure (a `repeat` of an earlier one or not): in the open niche (closing it at
+    /// its quota, or after `stale` repeats in a row) or as the next seed; whether it found a place.
     fn record_failure(
         &mut self,
         test_index: usize,
         shape: &[f32],
+        repeat: bool,
         roles: &mut Vec<(usize, NicheRole)>,
     ) -> bool {
         if !self.admits(shape) {
@@ -168,7 +202,9 @@ impl Niches {
             return true;
         }
         self.open_members.push(test_index);
-        if self.open_members.len() < self.quota {
+        self.open_repeats = if repeat { self.open_repeats + 1 } else { 0 };
+        let stale = self.stale > 0 && self.open_repeats >= self.stale;
+        if self.open_members.len() < self.quota && !stale {
             roles.push((test_index, NicheRole::Open));
         } else {
             self.close(roles);
@@ -182,6 +218,7 @@ impl Niches {
         self.seeds.extend_from_slice(shape);
         self.tests_between = 0;
         self.farthest_between = None;
+        self.open_repeats = 0;
         self.open_members.push(test_index);
         if self.quota == 1 {
             self.close(roles);
@@ -231,7 +268,7 @@ mod tests {
     /// Records test `index` (a failure when `shape` is given): the roles it changed.
     fn record(niches: &mut Niches, index: usize, shape: Option<&[f32]>) -> Vec<(usize, NicheRole)> {
         let mut roles = Vec::new();
-        niches.record_test(index, shape, &mut roles);
+        niches.record_test(index, shape, None, &mut roles);
         roles
     }
 
@@ -303,6 +340,46 @@ mod tests {
             assert!(record(&mut patient, i, None).is_empty());
         }
         assert!(!patient.is_open());
+    }
+
+    #[test]
+    fn a_niche_closes_after_its_stale_repeats_in_a_row() {
+        let mut niches = Niches::new(&NicheConfig {
+            quota: 10,
+            distance: 3.0,
+            radius: 1.0,
+            stale: 2,
+            repeat_distance: 0.1,
+            ..NicheConfig::default()
+        });
+        let mut failure = |index: usize, profile: f32| {
+            let mut roles = Vec::new();
+            niches.record_test(index, Some(&[0.0]), Some(&[profile, 0.0]), &mut roles);
+            roles
+        };
+        assert_eq!(failure(0, 0.0), [(0, NicheRole::Open)]);
+        // One repeat (0.05 from the seed's profile), then a new failure resets the count.
+        assert_eq!(failure(1, 0.05), [(1, NicheRole::Open)]);
+        assert_eq!(failure(2, 0.5), [(2, NicheRole::Open)]);
+        // A repeat of the second new failure, then of the first: two in a row close the niche
+        // at four failures of its quota of ten.
+        assert_eq!(failure(3, 0.45), [(3, NicheRole::Open)]);
+        assert_eq!(
+            failure(4, -0.05),
+            [0, 1, 2, 3, 4].map(|i| (i, NicheRole::Closed))
+        );
+        assert_eq!(niches.closed(), 1);
+        // Without profiles (or without `stale`) no failure is a repeat: only the quota closes.
+        let mut quota_only = Niches::new(&NicheConfig {
+            quota: 3,
+            radius: 1.0,
+            ..NicheConfig::default()
+        });
+        for i in 0..2 {
+            let mut roles = Vec::new();
+            quota_only.record_test(i, Some(&[0.0]), Some(&[0.0]), &mut roles);
+            assert_eq!(roles, [(i, NicheRole::Open)]);
+        }
     }
 
     #[test]
