@@ -42,29 +42,19 @@ pub(crate) enum NicheRole {
 /// The niches of a run: their seeds' shapes and the open one's failures.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Niches {
-    /// Failures a niche holds before it is closed (0: niches are off).
-    quota: usize,
-    /// Smallest distance of a new seed from every seed before it (RMS of the shape differences).
-    seed_distance: f32,
-    /// A niche's radius around its seed (RMS of the shape differences).
-    radius: f32,
+    /// The settings: quota, seed distance, radius, patience, repeats.
+    config: NicheConfig,
     /// Seeds' shapes, flattened, in the order found; the last is the open niche's while one is.
     seeds: Vec<f32>,
     /// Indices of the open niche's failures (empty while none is open).
     open_members: Vec<usize>,
     /// How many niches were closed.
     closed: usize,
-    /// Executed tests after which, between niches, the farthest failure seeds one (0: never).
-    patience: usize,
     /// Tests executed since the last niche closed, while none is open.
     tests_between: usize,
     /// Between niches, the failure farthest from every seed so far outside the closed balls:
     /// its index, shape and distance from the nearest seed.
     farthest_between: Option<(usize, Vec<f32>, f32)>,
-    /// Repeats in a row among the open niche's failures after which it is closed (0: never).
-    stale: usize,
-    /// Failures whose profiles lie nearer than this are repeats (RMS of the differences).
-    repeat_distance: f32,
     /// Profiles of the run's failures that were not repeats, flattened, in the order found.
     new_failure_profiles: Vec<f32>,
     /// Repeats in a row among the open niche's latest failures.
@@ -81,19 +71,14 @@ impl Niches {
     /// The niches a configuration asks for (off at a quota of 0).
     pub(crate) fn new(config: &NicheConfig) -> Self {
         Self {
-            quota: config.quota,
-            seed_distance: config.distance,
-            radius: config.radius,
-            patience: config.patience,
-            stale: config.stale,
-            repeat_distance: config.repeat_distance,
+            config: config.clone(),
             ..Self::default()
         }
     }
 
     /// Whether niches are on.
     pub(crate) fn are_on(&self) -> bool {
-        self.quota > 0 && self.radius > 0.0
+        self.config.are_on()
     }
 
     /// Whether a niche is open (being filled).
@@ -128,9 +113,9 @@ impl Niches {
         if self.is_open() {
             return seeds
                 .next_back()
-                .is_none_or(|open| rms_distance(open, shape) <= self.radius);
+                .is_none_or(|open| rms_distance(open, shape) <= self.config.radius);
         }
-        let limit = self.seed_distance.max(self.radius);
+        let limit = self.config.distance.max(self.config.radius);
         seeds.all(|seed| rms_distance(seed, shape) >= limit)
     }
 
@@ -160,7 +145,7 @@ impl Niches {
         }
         if between {
             self.tests_between += 1;
-            if self.patience > 0 && self.tests_between >= self.patience {
+            if self.config.patience > 0 && self.tests_between >= self.config.patience {
                 if let Some((index, shape, _)) = self.farthest_between.take() {
                     self.seed(index, &shape, roles);
                 }
@@ -172,13 +157,13 @@ impl Niches {
     /// distance); one that does not is remembered. Never a repeat without a profile, or when
     /// niches do not close on repeats.
     fn is_repeat(&mut self, profile: Option<&[f32]>) -> bool {
-        let Some(profile) = profile.filter(|p| self.stale > 0 && !p.is_empty()) else {
+        let Some(profile) = profile.filter(|p| self.config.stale > 0 && !p.is_empty()) else {
             return false;
         };
         let repeat = self
             .new_failure_profiles
             .chunks_exact(profile.len())
-            .any(|earlier| rms_distance(earlier, profile) < self.repeat_distance);
+            .any(|earlier| rms_distance(earlier, profile) < self.config.repeat_distance);
         if !repeat {
             self.new_failure_profiles.extend_from_slice(profile);
         }
@@ -203,8 +188,8 @@ impl Niches {
         }
         self.open_members.push(test_index);
         self.open_repeats = if repeat { self.open_repeats + 1 } else { 0 };
-        let stale = self.stale > 0 && self.open_repeats >= self.stale;
-        if self.open_members.len() < self.quota && !stale {
+        let stale = self.config.stale > 0 && self.open_repeats >= self.config.stale;
+        if self.open_members.len() < self.config.quota && !stale {
             roles.push((test_index, NicheRole::Open));
         } else {
             self.close(roles);
@@ -220,7 +205,7 @@ impl Niches {
         self.farthest_between = None;
         self.open_repeats = 0;
         self.open_members.push(test_index);
-        if self.quota == 1 {
+        if self.config.quota == 1 {
             self.close(roles);
         } else {
             roles.push((test_index, NicheRole::Open));
@@ -244,7 +229,7 @@ impl Niches {
             .farthest_between
             .as_ref()
             .is_none_or(|(_, _, kept)| nearest > *kept);
-        if nearest > self.radius && farther {
+        if nearest > self.config.radius && farther {
             self.farthest_between = Some((test_index, shape.to_vec(), nearest));
         }
     }
