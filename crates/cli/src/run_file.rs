@@ -192,7 +192,8 @@ fn four_decimals(value: f64) -> String {
 
 /// WOGAN's settings for choosing tests, which change what a run finds as much as the fitness does:
 /// the acceptance decay (to 4 decimals, so a matched default and the same value typed by hand
-/// group together), the mutation share when there are mutants, and rounds of several tests.
+/// group together), the mutation share when there are mutants (and their shifts), and rounds of
+/// several tests.
 fn acceptance(algorithm: &str, config: &Value) -> String {
     let setting = |name: &str| {
         config
@@ -204,10 +205,13 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
         _ => return String::new(),
     };
     let decay = four_decimals(decay);
-    let mut text = match setting("mutation/share") {
-        Some(share) if share > 0.0 => format!("decay {decay}, mutants {share}"),
-        _ => format!("decay {decay}"),
-    };
+    let mut text = format!("decay {decay}");
+    if let Some(share) = setting("mutation/share").filter(|&s| s > 0.0) {
+        text.push_str(&format!(", mutants {share}"));
+        if let Some(places) = setting("mutation/shift_places").filter(|&p| p > 0.0) {
+            text.push_str(&format!(" shifted up to {places} places"));
+        }
+    }
     for (rule, name) in [("novelty", "novelty"), ("shape_novelty", "shape novelty")] {
         if let Some(distance) = setting(&format!("{rule}/distance")).filter(|&d| d > 0.0) {
             // Written from f32: 4 decimals, as the decay.
@@ -377,6 +381,13 @@ mod tests {
             key_of("wogan", mutants).acceptance,
             "decay 0.95, mutants 0.25"
         );
+        let shifted = r#"{"target_decay":0.95,"mutation":{"share":0.5,"shift_places":3}}"#;
+        assert_eq!(
+            key_of("wogan", shifted).acceptance,
+            "decay 0.95, mutants 0.5 shifted up to 3 places"
+        );
+        let no_mutants = r#"{"target_decay":0.95,"mutation":{"share":0,"shift_places":3}}"#;
+        assert_eq!(key_of("wogan", no_mutants).acceptance, "decay 0.95");
         // Random search ignores these settings, and older headers lack them.
         assert_eq!(key_of("random", mutants).acceptance, "");
         let old = key_of("wogan", "{}");

@@ -302,6 +302,10 @@ pub struct MutationConfig {
     pub max_step: f32,
     /// Probability that a mutant is also reversed, half-swapped or mirrored.
     pub reshape_probability: f64,
+    /// A reshape may also shift every value along the test by 1 to this many places, either
+    /// way, round the ends: a road's bends move along it unchanged (0: no shift, only Frenetic's
+    /// three reshapes).
+    pub shift_places: usize,
 }
 
 impl Default for MutationConfig {
@@ -312,6 +316,7 @@ impl Default for MutationConfig {
             min_parent_distance: 0.5,
             max_step: 0.15,
             reshape_probability: 0.25,
+            shift_places: 0,
         }
     }
 }
@@ -428,6 +433,9 @@ pub mod limits {
     pub const MAX_BINS: usize = 1000;
     /// Most random draws per valid test, or invalid candidates in a row.
     pub const MAX_ATTEMPTS: usize = 10_000_000;
+    /// Most places a mutant's values are shifted (beyond a test's length, one place fewer than
+    /// its length).
+    pub const MAX_SHIFT_PLACES: usize = 1000;
     /// Most worker threads.
     pub const MAX_JOBS: usize = 256;
     /// Largest shape novelty distance: far beyond any two roads' heading profiles (radians).
@@ -594,6 +602,12 @@ impl RunConfig {
             0.0,
             1.0,
         )?;
+        check_count(
+            m.shift_places,
+            "wogan.mutation.shift_places",
+            0,
+            MAX_SHIFT_PLACES,
+        )?;
         Ok(())
     }
 }
@@ -647,6 +661,7 @@ mod tests {
                 r#"{"reshape_probability": 2}"#,
                 "wogan.mutation.reshape_probability",
             ),
+            (r#"{"shift_places": 1001}"#, "wogan.mutation.shift_places"),
         ] {
             let mut c = RunConfig::default();
             c.wogan.mutation = serde_json::from_str(json).unwrap();

@@ -4,8 +4,9 @@
 //! close to where it started and a run can miss failures that its own data already holds. The
 //! authors proposed mutating failing tests; here a share of each candidate batch are mutants of
 //! the highest-fitness tests (a small random step per value, sometimes also one of Frenetic's
-//! reshapes: reverse, swap halves, mirror). The analyzer ranks them together with the
-//! generator's candidates, so a mutant is executed only when it is predicted to be better.
+//! reshapes: reverse, swap halves, mirror; with `shift_places`, also a shift of every value
+//! along the test, which moves a road's bends along it). The analyzer ranks them together with
+//! the generator's candidates, so a mutant is executed only when it is predicted to be better.
 //!
 //! Parents are the best tests that lie apart from one another (`min_parent_distance`): the 8 best
 //! alone are usually neighbours, so every mutant lands in one region and the failures found are
@@ -77,10 +78,23 @@ pub(crate) fn parent_indices(
 /// Turns `test`, a copy of a parent, into its mutant; values stay in `[-1, 1]`.
 pub(crate) fn mutate<R: Rng + ?Sized>(test: &mut [f32], cfg: &MutationConfig, rng: &mut R) {
     if rng.random_bool(cfg.reshape_probability.clamp(0.0, 1.0)) {
-        match rng.random_range(0..3) {
+        let kinds = if cfg.shift_places > 0 { 4 } else { 3 };
+        match rng.random_range(0..kinds) {
             0 => test.reverse(),
             1 => test.rotate_left(test.len() / 2),
-            _ => test.iter_mut().for_each(|v| *v = -*v),
+            2 => test.iter_mut().for_each(|v| *v = -*v),
+            _ => {
+                // Never all the way round: that would leave the test as it was.
+                let most = cfg.shift_places.min(test.len().saturating_sub(1));
+                if most > 0 {
+                    let places = rng.random_range(1..=most);
+                    if rng.random_bool(0.5) {
+                        test.rotate_left(places);
+                    } else {
+                        test.rotate_right(places);
+                    }
+                }
+            }
         }
     }
     if cfg.max_step > 0.0 {
@@ -177,5 +191,43 @@ mod tests {
             seen.insert(kind);
         }
         assert_eq!(seen.len(), 3);
+    }
+
+    #[test]
+    fn a_shift_moves_every_value_round_the_ends_by_at_most_its_places() {
+        let cfg = MutationConfig {
+            max_step: 0.0,
+            reshape_probability: 1.0,
+            shift_places: 2,
+            ..MutationConfig::default()
+        };
+        let mut rng = ChaCha20Rng::seed_from_u64(3);
+        let parent = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7];
+        let rotated = |places: isize| -> Vec<f32> {
+            let mut child = parent.to_vec();
+            if places > 0 {
+                child.rotate_left(places.unsigned_abs());
+            } else {
+                child.rotate_right(places.unsigned_abs());
+            }
+            child
+        };
+        let mut shifts = std::collections::BTreeSet::new();
+        for _ in 0..400 {
+            let child = mutant_of(&parent, &cfg, &mut rng);
+            let reshaped = child == [0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1]
+                || child == rotated(3)
+                || child.iter().zip(parent).all(|(c, p)| *c == -p);
+            if reshaped {
+                continue;
+            }
+            let places = [-2, -1, 1, 2]
+                .into_iter()
+                .find(|&places| child == rotated(places))
+                .unwrap_or_else(|| panic!("unexpected mutant {child:?}"));
+            shifts.insert(places);
+        }
+        // Both ways, by one place and by two.
+        assert_eq!(shifts.len(), 4);
     }
 }
