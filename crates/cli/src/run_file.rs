@@ -9,6 +9,7 @@ use anyhow::Result;
 use road_sim::DriverKind;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
+use wogan_core::MutationConfig;
 
 /// What identifies a run's configuration for grouping repetitions.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -192,8 +193,8 @@ fn four_decimals(value: f64) -> String {
 
 /// WOGAN's settings for choosing tests, which change what a run finds as much as the fitness does:
 /// the acceptance decay (to 4 decimals, so a matched default and the same value typed by hand
-/// group together), the mutation share when there are mutants (and their shifts), and rounds of
-/// several tests.
+/// group together), the mutation share when there are mutants (and their step when it is not the
+/// default, and their shifts), and rounds of several tests.
 fn acceptance(algorithm: &str, config: &Value) -> String {
     let setting = |name: &str| {
         config
@@ -208,6 +209,13 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
     let mut text = format!("decay {decay}");
     if let Some(share) = setting("mutation/share").filter(|&s| s > 0.0) {
         text.push_str(&format!(", mutants {share}"));
+        // Older headers and the default step say nothing; another step finds other failures.
+        let default_step = four_decimals(f64::from(MutationConfig::default().max_step));
+        if let Some(step) = setting("mutation/max_step").map(four_decimals) {
+            if step != default_step {
+                text.push_str(&format!(" of steps up to {step}"));
+            }
+        }
         if let Some(places) = setting("mutation/shift_places").filter(|&p| p > 0.0) {
             text.push_str(&format!(" shifted up to {places} places"));
         }
@@ -385,6 +393,19 @@ mod tests {
         assert_eq!(
             key_of("wogan", shifted).acceptance,
             "decay 0.95, mutants 0.5 shifted up to 3 places"
+        );
+        // The default step as a header writes it from f32 says nothing; another step is named.
+        let default_step =
+            r#"{"target_decay":0.95,"mutation":{"share":0.5,"max_step":0.15000000596046448}}"#;
+        assert_eq!(
+            key_of("wogan", default_step).acceptance,
+            "decay 0.95, mutants 0.5"
+        );
+        let larger_steps =
+            r#"{"target_decay":0.95,"mutation":{"share":0.5,"max_step":0.4000000059604645}}"#;
+        assert_eq!(
+            key_of("wogan", larger_steps).acceptance,
+            "decay 0.95, mutants 0.5 of steps up to 0.4"
         );
         let no_mutants = r#"{"target_decay":0.95,"mutation":{"share":0,"shift_places":3}}"#;
         assert_eq!(key_of("wogan", no_mutants).acceptance, "decay 0.95");
