@@ -433,8 +433,8 @@ pub mod limits {
     pub const MAX_BINS: usize = 1000;
     /// Most random draws per valid test, or invalid candidates in a row.
     pub const MAX_ATTEMPTS: usize = 10_000_000;
-    /// Most places a mutant's values are shifted (beyond a test's length, one place fewer than
-    /// its length).
+    /// Largest `mutation.shift_places` (a shift is also at most one place fewer than the test's
+    /// values).
     pub const MAX_SHIFT_PLACES: usize = 1000;
     /// Most worker threads.
     pub const MAX_JOBS: usize = 256;

@@ -75,9 +75,12 @@ pub(crate) fn parent_indices(
     parents
 }
 
-/// Turns `test`, a copy of a parent, into its mutant; values stay in `[-1, 1]`.
+/// Turns `test`, a copy of a parent, into its mutant (sometimes reshaped, then stepped); values
+/// stay in `[-1, 1]`.
 pub(crate) fn mutate<R: Rng + ?Sized>(test: &mut [f32], cfg: &MutationConfig, rng: &mut R) {
     if rng.random_bool(cfg.reshape_probability.clamp(0.0, 1.0)) {
+        // The shift is a fourth kind only when asked for, so that without it the draws (and
+        // every run made before it existed) are unchanged.
         let kinds = if cfg.shift_places > 0 { 4 } else { 3 };
         match rng.random_range(0..kinds) {
             0 => test.reverse(),
