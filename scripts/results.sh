@@ -8,6 +8,7 @@
 #   MAKE_RUNS=1 scripts/results.sh                      # first make the missing search runs
 #   ALLOW_MISSING=1 scripts/results.sh                  # write what there is; name what is missing
 #   ONLY=generator,ci scripts/results.sh                # regenerate those sections of docs/results.md in place
+#   ORACLES=dave2-proxy ONLY=field scripts/results.sh   # ... and of them only that driver's subsections
 #
 # What it reads (nothing here is measured twice: each source has its own script):
 #   target/effectiveness/ORACLE.TAG.ALGORITHM.SEED.jsonl   scripts/search_figures.sh (seeds 1-20)
@@ -100,6 +101,8 @@ import datetime, glob, json, os, re, statistics, subprocess, sys, time
 WOGAN = os.environ["WOGAN"]
 SEEDS = os.environ["SEEDS"].split()
 ORACLES = os.environ["ORACLES"].split()
+# Every driver the page has sections for (ORACLES narrows which are regenerated).
+ALL_ORACLES = ("beamng-ai-proxy", "dave2-proxy")
 WORK = os.environ["WORK"]
 SETTINGS = [s.split(":") for s in os.environ["SETTINGS"].split()]
 lines = []  # the Markdown being written
@@ -462,7 +465,8 @@ def sbst_preset_section():
         "2022 tool whose runs are on the machine (`PEERS_HOME=... scripts/peers/campaign.sh "
         "ORACLE \"$(seq -s ' ' 1 20)\" TOOLS`; all of their figures are in the field's section). How "
         "the settings were chosen: docs/experiments/2026-11-26-niches.md, 2026-11-26-niche-roads.md, "
-        "2026-11-26-sbst-preset.md and 2026-11-26-field-20-runs.md.")
+        "2026-11-26-sbst-preset.md and 2026-11-26-field-20-runs.md; the DAVE-2 setup's small niches: "
+        "2026-11-27-tiny-niches-larger-steps.md.")
     for oracle in ORACLES:
         preset = runs_of(f"target/sbst/{oracle}.preset-sbst")
         out()
@@ -975,23 +979,45 @@ def reference_roads_section_quiet():
     return per_road
 
 
-def splice(old_text, new_lines, stamp):
+def split(text_lines, marker):
+    """The lines before the first heading starting with `marker`, and each such heading's block."""
+    head, blocks, current = [], [], None
+    for line in text_lines:
+        if line.startswith(marker):
+            current = [line]
+            blocks.append(current)
+        elif current is None:
+            head.append(line)
+        else:
+            current.append(line)
+    return head, blocks
+
+
+def keep_other_oracles(old_block, fresh_block):
+    """`fresh_block` with the `### ` subsections of `old_block` that it lacks kept in their places:
+    with ORACLES narrowed, a section's other drivers are not regenerated, not dropped."""
+    _, old_subs = split(old_block, "### ")
+    intro, fresh_subs = split(fresh_block, "### ")
+    by_heading = {b[0]: b for b in fresh_subs}
+    merged = [by_heading.pop(b[0], b) for b in old_subs] + list(by_heading.values())
+    for block in merged:
+        while block and block[-1] == "":
+            block.pop()
+        block.append("")
+    return intro + [line for block in merged for line in block]
+
+
+def splice(old_text, new_lines, stamp, narrowed):
     """`old_text` with each `## ` section of `new_lines` put in place of the one of that heading
-    (or, when it has none, before the earlier sessions' section), and `stamp` under the header."""
-    def split(text_lines):
-        head, blocks, current = [], [], None
-        for line in text_lines:
-            if line.startswith("## "):
-                current = [line]
-                blocks.append(current)
-            elif current is None:
-                head.append(line)
-            else:
-                current.append(line)
-        return head, blocks
-    head, blocks = split(old_text.split("\n"))
-    _, fresh = split(new_lines)
+    (or, when it has none, before the earlier sessions' section), and `stamp` under the header;
+    when `narrowed` (ORACLES names fewer than every driver), the old section's subsections of the
+    drivers not regenerated are kept."""
+    head, blocks = split(old_text.split("\n"), "## ")
+    _, fresh = split(new_lines, "## ")
     by_heading = {b[0]: b for b in fresh}
+    if narrowed:
+        by_heading = {h: keep_other_oracles(next((b for b in blocks if b[0] == h), []), b)
+                      for h, b in by_heading.items()}
     merged = [by_heading.pop(b[0], b) for b in blocks]
     at = next((i for i, b in enumerate(merged) if b[0].startswith("## Figures from earlier")), len(merged))
     merged[at:at] = list(by_heading.values())
@@ -1017,10 +1043,13 @@ def main():
         for name, write in chosen:
             if name in only:
                 write()
+        narrowed = set(ORACLES) != set(ALL_ORACLES)
+        oracles = f"ORACLES={' '.join(ORACLES)} " if narrowed else ""
         stamp = (f"- sections {', '.join(only)} regenerated on {m['date']} (commit {m['commit']}"
-                 f"{' with local changes' if m['dirty'] else ''}; `ONLY={','.join(only)} scripts/results.sh`)")
+                 f"{' with local changes' if m['dirty'] else ''}; `{oracles}ONLY={','.join(only)} "
+                 f"scripts/results.sh`)")
         with open(os.environ["OUT"]) as f:
-            text = splice(f.read(), lines, stamp)
+            text = splice(f.read(), lines, stamp, narrowed)
         with open(os.environ["OUT"], "w") as f:
             f.write(text)
         print(f"results.sh: regenerated {', '.join(only)} in {os.environ['OUT']}", file=sys.stderr)

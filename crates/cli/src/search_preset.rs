@@ -7,7 +7,7 @@
 use road_sim::distinct::DELTA_RAD;
 use road_sim::road::curvature::DEFAULT_STEP_M;
 use road_sim::{DriverKind, RoadPlacement};
-use wogan_core::{BetweenNiches, NicheConfig, NoveltyConfig, RunConfig};
+use wogan_core::{BetweenNiches, MutationConfig, NicheConfig, NoveltyConfig, RunConfig};
 
 /// A named set of search settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -62,6 +62,8 @@ struct SbstSettings {
     novelty_distance: f32,
     /// The share of mutants among the candidates.
     mutation_share: f64,
+    /// Largest change of one of a mutant's values (normalised units).
+    mutation_max_step: f32,
     /// The niches of failures (a quota of 0: none); their failure level is the run's.
     niches: NicheConfig,
 }
@@ -94,6 +96,7 @@ impl SbstSettings {
                 roads: BEAMNG_AI_ROADS,
                 novelty_distance: 0.1,
                 mutation_share: SBST_MUTATION_SHARE,
+                mutation_max_step: MutationConfig::default().max_step,
                 niches: NicheConfig::default(),
             },
             // At 25 km/h a long road costs nearly three times the simulated seconds it costs at
@@ -107,6 +110,7 @@ impl SbstSettings {
                 },
                 novelty_distance: 0.05,
                 mutation_share: SBST_MUTATION_SHARE,
+                mutation_max_step: MutationConfig::default().max_step,
                 niches: NicheConfig::default(),
             },
         }
@@ -126,6 +130,7 @@ impl SbstSettings {
                 roads: BEAMNG_AI_NICHE_ROADS,
                 novelty_distance: 0.075,
                 mutation_share: 0.75,
+                mutation_max_step: MutationConfig::default().max_step,
                 niches: NicheConfig {
                     quota: 100,
                     distance: 3.0,
@@ -140,19 +145,24 @@ impl SbstSettings {
             // The paper's 75 m roads all fail alike on this driver (out of one long right-hand
             // bend), so no niche finds room: the longer roads give the bends before the exit
             // room to differ (longer still, of more values or longer steps, adds little here:
-            // such roads cost tests at 25 km/h). Seeds nearer than in the BeamNG.AI setup: fewer
-            // far regions fail, and neither other jumps between niches nor roads of drifting
-            // curvature find more of them (docs/experiments/2026-11-26-sbst-preset.md).
+            // such roads cost tests at 25 km/h; docs/experiments/2026-11-26-sbst-preset.md).
+            // This driver fails in few far regions, and a niche's fills are near copies of one
+            // another as whole roads: many niches of 12, their seeds drawn at random where the
+            // run has not been (the generator proposes roads like the niches it learnt), keep
+            // the near copies' share of the failures' pairs low; mutants moving twice as far
+            // make a niche's fills differ where the car leaves its lane
+            // (docs/experiments/2026-11-27-tiny-niches-larger-steps.md).
             CompetitionSetup::Dave2 => Self {
                 roads: BEAMNG_AI_ROADS,
                 mutation_share: 0.5,
+                mutation_max_step: 0.4,
                 niches: NicheConfig {
-                    quota: 100,
-                    distance: 2.0,
+                    quota: 12,
+                    distance: 1.5,
                     radius: 1.0,
                     patience: 0,
                     min_fitness: 0.0,
-                    between: BetweenNiches::Model,
+                    between: BetweenNiches::Random,
                     stale: 0,
                     repeat_distance: DELTA_RAD as f32,
                 },
@@ -191,6 +201,7 @@ impl SearchPreset {
         // The novelty rule costs failing roads; mutants of the best tests win them back (and
         // more) while the rule keeps the mutants from repeating those tests.
         search.wogan.mutation.share = settings.mutation_share;
+        search.wogan.mutation.max_step = settings.mutation_max_step;
         search.wogan.niches = settings.niches;
     }
 }
@@ -237,10 +248,17 @@ mod tests {
 
     #[test]
     fn sbst_adds_niches_to_sbst_no_niches_on_roads_of_its_own() {
-        // (driver, the curvature values of its roads, its novelty distance)
-        for (driver, points, novelty) in [
-            (DriverKind::BeamNgAiProxy, 22, 0.075),
-            (DriverKind::Dave2Proxy, 16, 0.05),
+        // (driver, the curvature values of its roads, its novelty distance, its mutants' largest
+        // step, where its seeds come from between niches)
+        for (driver, points, novelty, max_step, between) in [
+            (
+                DriverKind::BeamNgAiProxy,
+                22,
+                0.075,
+                MutationConfig::default().max_step,
+                BetweenNiches::Model,
+            ),
+            (DriverKind::Dave2Proxy, 16, 0.05, 0.4, BetweenNiches::Random),
         ] {
             let (mut sbst, mut niches) = (RunConfig::default(), RunConfig::default());
             SearchPreset::SbstNoNiches.apply(&mut sbst, driver);
@@ -249,8 +267,11 @@ mod tests {
             assert!(niches.wogan.niches.distance > niches.wogan.niches.radius);
             assert!(niches.wogan.mutation.share > sbst.wogan.mutation.share);
             assert_eq!(niches.wogan.novelty.distance, novelty, "{driver}");
+            assert_eq!(niches.wogan.mutation.max_step, max_step, "{driver}");
+            assert_eq!(niches.wogan.niches.between, between, "{driver}");
             niches.wogan.niches = sbst.wogan.niches.clone();
             niches.wogan.mutation.share = sbst.wogan.mutation.share;
+            niches.wogan.mutation.max_step = sbst.wogan.mutation.max_step;
             niches.wogan.novelty = sbst.wogan.novelty.clone();
             assert_eq!(niches, sbst, "{driver}");
             let roads = SearchPreset::Sbst.roads(driver);
