@@ -149,8 +149,8 @@ impl SbstSettings {
             // This driver fails in few far regions, and a niche's fills are near copies of one
             // another as whole roads: many niches of 12, their seeds drawn at random where the
             // run has not been (the generator proposes roads like the niches it learnt), keep
-            // the near copies' share of the failures' pairs low; mutants moving twice as far
-            // make a niche's fills differ where the car leaves its lane
+            // the near copies' share of the failures' pairs low; mutant steps up to 0.4 (not
+            // 0.15) make a niche's fills differ where the car leaves its lane
             // (docs/experiments/2026-11-27-tiny-niches-larger-steps.md).
             CompetitionSetup::Dave2 => Self {
                 roads: BEAMNG_AI_ROADS,
