@@ -1000,11 +1000,16 @@ def keep_other_oracles(old_block, fresh_block):
     intro, fresh_subs = split(fresh_block, "### ")
     by_heading = {b[0]: b for b in fresh_subs}
     merged = [by_heading.pop(b[0], b) for b in old_subs] + list(by_heading.values())
-    for block in merged:
+    return intro + joined(merged)
+
+
+def joined(blocks):
+    """The lines of `blocks`, each ended by exactly one blank line."""
+    for block in blocks:
         while block and block[-1] == "":
             block.pop()
         block.append("")
-    return intro + [line for block in merged for line in block]
+    return [line for block in blocks for line in block]
 
 
 def splice(old_text, new_lines, stamp, narrowed):
@@ -1024,11 +1029,7 @@ def splice(old_text, new_lines, stamp, narrowed):
     while head and head[-1] == "":
         head.pop()
     head += [stamp, ""]
-    for block in merged:
-        while block and block[-1] == "":
-            block.pop()
-        block.append("")
-    return "\n".join(head + [line for block in merged for line in block]).rstrip("\n") + "\n"
+    return "\n".join(head + joined(merged)).rstrip("\n") + "\n"
 
 
 def main():

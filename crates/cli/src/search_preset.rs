@@ -130,7 +130,6 @@ impl SbstSettings {
                 roads: BEAMNG_AI_NICHE_ROADS,
                 novelty_distance: 0.075,
                 mutation_share: 0.75,
-                mutation_max_step: MutationConfig::default().max_step,
                 niches: NicheConfig {
                     quota: 100,
                     distance: 3.0,
@@ -141,6 +140,7 @@ impl SbstSettings {
                     stale: 0,
                     repeat_distance: DELTA_RAD as f32,
                 },
+                ..Self::without_niches(setup)
             },
             // The paper's 75 m roads all fail alike on this driver (out of one long right-hand
             // bend), so no niche finds room: the longer roads give the bends before the exit
