@@ -410,6 +410,28 @@ fn a_saved_generator_samples_the_roads_a_generator_run_drives() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(stderr.contains(says), "{file}: {stderr}");
     }
+    // The default road shape is not written, so files from before the choice keep their
+    // checksums; another is, and a run from the file compares roads by it.
+    assert!(!text.contains("road_shape"));
+    let directions = dir.join("directions.json");
+    let save = [
+        "run",
+        "--max-tests",
+        "12",
+        "--road-shape",
+        "directions",
+        "--save-generator",
+        arg(&directions),
+    ];
+    assert_eq!(wogan(&save, "").status.code(), Some(0));
+    let text = std::fs::read_to_string(&directions).unwrap();
+    assert!(text.contains("\"road_shape\":\"directions\""));
+    let generated = wogan(
+        &["run", "--generator", arg(&directions), "--max-tests", "2"],
+        "",
+    );
+    assert_eq!(generated.status.code(), Some(0));
+    assert_eq!(records(&generated)[0]["config"]["road_shape"], "directions");
     // Random search trains no generator to save.
     let output = wogan(
         &[

@@ -205,22 +205,30 @@ fn the_sbst_presets_set_their_roads_novelty_mutants_and_niches_per_setup_and_opt
     assert_eq!(config["road"]["placement"], "bottom-centre");
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.05);
     assert_eq!(config["search"]["wogan"]["mutation"]["share"], 0.25);
-    // `sbst`, with niches: in the BeamNG.AI setup on roads of 22 values, in the DAVE-2 setup on
-    // the BeamNG.AI `sbst-no-niches` roads, filled by each driver's failures.
-    for (oracle, level, points) in [("beamng-ai-proxy", 0.85, 22), ("dave2-proxy", 0.1, 16)] {
+    // `sbst`, with niches: in the BeamNG.AI setup on roads of 22 values 12 m apart compared by
+    // the paper's directions, in the DAVE-2 setup on the BeamNG.AI `sbst-no-niches` roads, filled
+    // by each driver's failures.
+    for (oracle, level, points, step_m, shape) in [
+        ("beamng-ai-proxy", 0.85, 22, 12.0, "directions"),
+        ("dave2-proxy", 0.1, 16, 10.0, "headings"),
+    ] {
         let config = config_of(&["--oracle", oracle, "--preset", "sbst"]);
         assert_eq!(config["preset"], "sbst");
         assert_eq!(config["curvature_points"], points, "{oracle}");
-        assert_eq!(config["road"]["step_m"], 10.0);
+        assert_eq!(config["road"]["step_m"], step_m, "{oracle}");
         assert_eq!(config["road"]["placement"], "fitted");
+        assert_eq!(config["road_shape"], shape, "{oracle}");
         let niches = &config["search"]["wogan"]["niches"];
         assert!(niches["quota"].as_u64().unwrap() > 0, "{oracle}");
         assert_eq!(niches["min_fitness"], level, "{oracle}");
     }
+    let config = config_of(&["--preset", "sbst", "--road-shape", "headings"]);
+    assert_eq!(config["road_shape"], "headings");
     // The paper's WOGAN has neither.
     let (_, records) = run(&["--max-tests", "3"]);
     let config = &records[0]["config"];
     assert!(config.get("preset").is_none());
+    assert_eq!(config["road_shape"], "headings");
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.0);
     assert_eq!(config["search"]["wogan"]["niches"]["quota"], 0);
 }
@@ -304,6 +312,7 @@ fn bad_options_exit_2() {
         &["--algorithm", "random", "--round-acceptance", "restart"],
         &["--preset", "fast"],
         &["--algorithm", "random", "--preset", "sbst"],
+        &["--road-shape", "wrapped"],
         // The competition's budgets go together, in seconds or as durations, and not with the
         // one real-time budget.
         &["--generation-budget", "3600"],
@@ -527,6 +536,24 @@ fn niches_closed_on_repeats_compare_the_roads_exit_profiles() {
     assert_eq!(closing_tests[..20], preset_tests[..20]);
     assert_ne!(closing_tests, preset_tests);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn niches_compare_roads_by_the_shape_asked_for() {
+    let tests_of = |shape: &str| {
+        let args = ["--preset", "sbst", "--max-tests", "150", "--seed", "1"];
+        let (code, records) = run(&[&args[..], &["--road-shape", shape]].concat());
+        assert_eq!(code, Some(0));
+        assert_eq!(records[0]["config"]["road_shape"], shape);
+        of_type(&records, "test")
+            .into_iter()
+            .map(|t| t["curvature"].clone())
+            .collect::<Vec<Value>>()
+    };
+    let (directions, headings) = (tests_of("directions"), tests_of("headings"));
+    // The random phase is the same; which candidates a niche admits is not.
+    assert_eq!(directions[..20], headings[..20]);
+    assert_ne!(directions, headings);
 }
 
 #[test]

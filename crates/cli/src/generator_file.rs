@@ -10,6 +10,7 @@
 //! whose checksum does not match is refused with the reason, before anything is sampled.
 
 use crate::records::VERSION as WOGAN_VERSION;
+use crate::road_sut::RoadShape;
 use anyhow::{bail, Context, Result};
 use road_sim::CurvatureRoad;
 use serde::{Deserialize, Serialize};
@@ -40,6 +41,10 @@ pub struct GeneratorPayload {
     pub curvature_points: usize,
     /// How curvature values become road points (map size, step).
     pub road: CurvatureRoad,
+    /// How the niches and the shape novelty rule compared roads; not written when it is the
+    /// default, so that files from before the choice keep their checksums.
+    #[serde(default, skip_serializing_if = "RoadShape::is_headings")]
+    pub road_shape: RoadShape,
     /// The random sampler's settings (the fallback after too many invalid candidates).
     pub sampler: SamplerConfig,
     /// The networks and the settings they propose with.

@@ -11,6 +11,7 @@ use crate::executor::ExecutorSettings;
 use crate::generator_file::{self, GeneratorPayload};
 use crate::output_file::same_file;
 use crate::records::{Header, VERSION};
+use crate::road_sut::RoadShape;
 use crate::search_preset::SearchPreset;
 use crate::value_parsers::{budget_duration, fitness_kind, fraction, road_placement, share};
 use anyhow::{bail, Context, Result};
@@ -77,6 +78,11 @@ pub struct RunArgs {
     /// Frenetic generators place theirs) [default: bottom-centre, or the preset's].
     #[arg(long, value_parser = road_placement)]
     pub road_placement: Option<RoadPlacement>,
+    /// How the niches and the shape novelty rule compare roads: `headings` (the heading profile,
+    /// unwrapped) or `directions` (the WOGAN authors' diversity description: directions from
+    /// north, not unwrapped) [default: headings, or the preset's].
+    #[arg(long, value_enum)]
+    pub road_shape: Option<RoadShape>,
     /// Distance between road points, metres [default: 15, the paper's, or the preset's].
     #[arg(long, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
     pub step_length: Option<f64>,
@@ -114,7 +120,7 @@ pub struct RunArgs {
     /// Choose every test with the generator and analyzer saved in FILE (`--save-generator`), as
     /// the trained WOGAN chooses: no random phase, no training. Its roads' settings and WOGAN's
     /// settings are the file's.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance", "preset", "road_placement"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance", "preset", "road_placement", "road_shape"])]
     pub generator: Option<PathBuf>,
     /// Drive each road with an external program instead of wogan's simulator: `cmd:COMMAND`
     /// (run with `sh -c`; one per worker), speaking the executor protocol (docs/reference.md).
@@ -220,6 +226,8 @@ pub struct RunSettings {
     pub curvature_points: u32,
     /// How curvature values become road points.
     pub road: CurvatureRoad,
+    /// How the niches and the shape novelty rule compare roads.
+    pub road_shape: RoadShape,
     /// How drives are simulated and judged.
     pub sim: SimConfig,
     /// The driver under test and its tuning (serialised as the tuning of that driver).
@@ -344,7 +352,7 @@ impl RunPlan {
             Some(path) => Some(generator_file::read(path)?),
             None => None,
         };
-        let (curvature_points, road) = match &generator {
+        let (curvature_points, road, road_shape) = match &generator {
             Some(saved) => {
                 let typed = (
                     args.curvature_points.unwrap_or(DEFAULT_CURVATURE_POINTS),
@@ -368,7 +376,7 @@ impl RunPlan {
                 }
                 // WOGAN's settings are the ones the networks were trained with.
                 search.wogan = saved.model.config.clone();
-                (saved.curvature_points as u32, saved.road)
+                (saved.curvature_points as u32, saved.road, saved.road_shape)
             }
             None => {
                 let preset = args.preset.map(|p| p.roads(kind));
@@ -387,6 +395,9 @@ impl RunPlan {
                             .or(preset.map(|r| r.placement))
                             .unwrap_or_default(),
                     },
+                    args.road_shape
+                        .or(preset.map(|r| r.shape))
+                        .unwrap_or_default(),
                 )
             }
         };
@@ -409,6 +420,7 @@ impl RunPlan {
                 preset: args.preset,
                 curvature_points,
                 road,
+                road_shape,
                 sim,
                 driver,
                 search,

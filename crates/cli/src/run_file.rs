@@ -264,8 +264,9 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
     text
 }
 
-/// The roads' shape unless it is the paper's (five curvature values, 15 m apart) or unknown, and
-/// their placement unless it is the paper's (from the bottom centre).
+/// The roads' shape unless it is the paper's (five curvature values, 15 m apart) or unknown, their
+/// placement unless it is the paper's (from the bottom centre), and how the search compared them
+/// unless by the heading profile.
 fn roads(config: &Value) -> String {
     let points = config.pointer("/curvature_points").and_then(Value::as_u64);
     let step_m = config.pointer("/road/step_m").and_then(Value::as_f64);
@@ -274,10 +275,16 @@ fn roads(config: &Value) -> String {
         (Some(points), Some(step_m)) => format!("{points} x {step_m} m roads"),
         _ => String::new(),
     };
-    match config.pointer("/road/placement").and_then(Value::as_str) {
+    let placed = match config.pointer("/road/placement").and_then(Value::as_str) {
         Some("fitted") if shape.is_empty() => "fitted roads".to_owned(),
         Some("fitted") => format!("{shape}, fitted"),
         _ => shape,
+    };
+    // Older headers and the default (the heading profile) say nothing.
+    match config.pointer("/road_shape").and_then(Value::as_str) {
+        Some("directions") if placed.is_empty() => "roads compared by directions".to_owned(),
+        Some("directions") => format!("{placed}, compared by directions"),
+        _ => placed,
     }
 }
 
@@ -493,6 +500,17 @@ mod tests {
             r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"search":{"wogan":{"target_decay":0.95}}}"#,
         );
         assert_eq!(fitted.roads, "8 x 15 m roads, fitted");
+        let directions = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"road_shape":"directions","search":{"wogan":{"target_decay":0.95}}}"#,
+        );
+        assert_eq!(
+            directions.roads,
+            "8 x 15 m roads, fitted, compared by directions"
+        );
+        let headings = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"road_shape":"headings","search":{"wogan":{"target_decay":0.95}}}"#,
+        );
+        assert_eq!(headings, fitted);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 //! The defaults stay the paper's WOGAN, so that parity with the authors' implementation holds;
 //! a preset is a measured choice for a purpose, and its figures are in docs/results.md.
 
+use crate::road_sut::RoadShape;
 use road_sim::distinct::DELTA_RAD;
 use road_sim::road::curvature::DEFAULT_STEP_M;
 use road_sim::{DriverKind, RoadPlacement};
@@ -52,6 +53,8 @@ pub struct PresetRoads {
     pub step_m: f64,
     /// Where roads lie on the map (`--road-placement`).
     pub placement: RoadPlacement,
+    /// How the niches compare roads (`--road-shape`).
+    pub shape: RoadShape,
 }
 
 /// What an SBST preset sets in one setup.
@@ -76,11 +79,15 @@ const BEAMNG_AI_ROADS: PresetRoads = PresetRoads {
     curvature_points: 16,
     step_m: 10.0,
     placement: RoadPlacement::Fitted,
+    shape: RoadShape::Headings,
 };
 
-/// The BeamNG.AI setup's roads with niches: 22 curvature values 10 m apart (220 m), fitted.
+/// The BeamNG.AI setup's roads with niches: 22 curvature values 12 m apart (264 m), fitted,
+/// compared by the WOGAN authors' directions.
 const BEAMNG_AI_NICHE_ROADS: PresetRoads = PresetRoads {
     curvature_points: 22,
+    step_m: 12.0,
+    shape: RoadShape::Directions,
     ..BEAMNG_AI_ROADS
 };
 
@@ -107,6 +114,7 @@ impl SbstSettings {
                     curvature_points: 5,
                     step_m: DEFAULT_STEP_M,
                     placement: RoadPlacement::BottomCentre,
+                    shape: RoadShape::Headings,
                 },
                 novelty_distance: 0.05,
                 mutation_share: SBST_MUTATION_SHARE,
@@ -123,9 +131,13 @@ impl SbstSettings {
             // Niches of 100 failures about three of a run's, seeds 3 rad (RMS) apart; mutants
             // keep a niche productive, and a search between niches that finds no far seed in 40
             // tests settles for the farthest failure it met, so the budget still exploits. Longer
-            // roads swing further (the niches' seeds lie further apart as whole roads), at the
-            // same step the bends around an exit are as varied; a closer novelty distance fills
-            // each niche sooner, winning back the tests longer roads cost.
+            // roads swing further (the niches' seeds lie further apart as whole roads); a closer
+            // novelty distance fills each niche sooner, winning back the tests longer roads cost.
+            // The niches compare roads as the paper's diversity does (directions not unwrapped),
+            // so seeds far apart are far apart by that measure; there a niche's fills spread
+            // wider (radius 1.5), and random roads between niches find seeds where the generator,
+            // having learnt the niches so far, would not propose
+            // (docs/experiments/2026-11-28-niches-by-directions.md).
             CompetitionSetup::BeamNgAi => Self {
                 roads: BEAMNG_AI_NICHE_ROADS,
                 novelty_distance: 0.075,
@@ -133,10 +145,10 @@ impl SbstSettings {
                 niches: NicheConfig {
                     quota: 100,
                     distance: 3.0,
-                    radius: 1.0,
+                    radius: 1.5,
                     patience: 40,
                     min_fitness: 0.0,
-                    between: BetweenNiches::Model,
+                    between: BetweenNiches::Random,
                     stale: 0,
                     repeat_distance: DELTA_RAD as f32,
                 },
@@ -248,17 +260,25 @@ mod tests {
 
     #[test]
     fn sbst_adds_niches_to_sbst_no_niches_on_roads_of_its_own() {
-        // (driver, the curvature values of its roads, its novelty distance, its mutants' largest
-        // step, where its seeds come from between niches)
-        for (driver, points, novelty, max_step, between) in [
+        // (driver, its roads' curvature values, step and shape, its novelty distance, its
+        // mutants' largest step, where its seeds come from between niches)
+        for (driver, points, step_m, shape, novelty, max_step) in [
             (
                 DriverKind::BeamNgAiProxy,
                 22,
+                12.0,
+                RoadShape::Directions,
                 0.075,
                 MutationConfig::default().max_step,
-                BetweenNiches::Model,
             ),
-            (DriverKind::Dave2Proxy, 16, 0.05, 0.4, BetweenNiches::Random),
+            (
+                DriverKind::Dave2Proxy,
+                16,
+                10.0,
+                RoadShape::Headings,
+                0.05,
+                0.4,
+            ),
         ] {
             let (mut sbst, mut niches) = (RunConfig::default(), RunConfig::default());
             SearchPreset::SbstNoNiches.apply(&mut sbst, driver);
@@ -268,21 +288,21 @@ mod tests {
             assert!(niches.wogan.mutation.share > sbst.wogan.mutation.share);
             assert_eq!(niches.wogan.novelty.distance, novelty, "{driver}");
             assert_eq!(niches.wogan.mutation.max_step, max_step, "{driver}");
-            assert_eq!(niches.wogan.niches.between, between, "{driver}");
+            assert_eq!(niches.wogan.niches.between, BetweenNiches::Random);
             niches.wogan.niches = sbst.wogan.niches.clone();
             niches.wogan.mutation.share = sbst.wogan.mutation.share;
             niches.wogan.mutation.max_step = sbst.wogan.mutation.max_step;
             niches.wogan.novelty = sbst.wogan.novelty.clone();
             assert_eq!(niches, sbst, "{driver}");
             let roads = SearchPreset::Sbst.roads(driver);
-            assert_eq!(roads.curvature_points, points, "{driver}");
             assert_eq!(
-                PresetRoads {
-                    curvature_points: 16,
-                    ..roads
-                },
-                SearchPreset::SbstNoNiches.roads(DriverKind::BeamNgAiProxy)
+                (roads.curvature_points, roads.step_m, roads.shape),
+                (points, step_m, shape),
+                "{driver}"
             );
+            assert_eq!(roads.placement, RoadPlacement::Fitted, "{driver}");
+            // Without niches nothing compares roads by shape: the default.
+            assert!(SearchPreset::SbstNoNiches.roads(driver).shape.is_headings());
         }
     }
 }

@@ -36,6 +36,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
     let sut = RoadSut {
         roads: settings.road,
         curvature_points: settings.curvature_points as usize,
+        shape: settings.road_shape,
         validator: Validator::new(settings.road.map_size_m),
         driver: settings.driver.clone(),
         sim: settings.sim,
@@ -172,6 +173,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
                 tests: summary.executed,
                 curvature_points: settings.curvature_points as usize,
                 road: settings.road,
+                road_shape: settings.road_shape,
                 sampler: settings.search.sampler.clone(),
                 model,
             },

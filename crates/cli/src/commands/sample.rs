@@ -56,6 +56,7 @@ pub fn run(args: &SampleArgs) -> Result<Status> {
     let roads = RoadSut {
         roads: saved.road,
         curvature_points: saved.curvature_points,
+        shape: saved.road_shape,
         validator: Validator::new(saved.road.map_size_m),
         driver: DriverConfig::default_for(DriverKind::BeamNgAiProxy),
         sim: SimConfig::default(),
