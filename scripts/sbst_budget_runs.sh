@@ -9,7 +9,9 @@
 # ALGORITHMS chooses the algorithms (default "wogan random"; "preset-sbst" is WOGAN with
 # `--preset sbst`). Runs go to target/sbst/ as
 # ORACLE.ALGORITHM.SEED.jsonl, exports to target/sbst/export/ORACLE.ALGORITHM.SEED/, the report to
-# target/sbst/report-ORACLE/. With REUSE=1 a run whose file ends with its summary is kept.
+# target/sbst/report-ORACLE/. With REUSE=1 a run whose file ends with its summary is kept. With
+# EXPORT=0 the runs are not exported (scripts/results.sh reads only the run files; a long run's
+# export can take longer than the run).
 # WOGAN=path uses another binary (default target/release/wogan, built here).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,8 +38,10 @@ for algorithm in $algorithms; do
     esac
     "$WOGAN" run --quiet --oracle "$oracle" "${search[@]}" --seed "$seed" \
       --generation-budget "$generation" --execution-budget "$execution" --out "$file"
-    "$WOGAN" export --force --format sbst "$file" "$out/export/$oracle.$algorithm.$seed" \
-      2> >(grep -v '^wogan export: wrote' >&2)
+    if [ "${EXPORT:-1}" != 0 ]; then
+      "$WOGAN" export --force --format sbst "$file" "$out/export/$oracle.$algorithm.$seed" \
+        2> >(grep -v '^wogan export: wrote' >&2)
+    fi
     echo "$oracle $algorithm seed $seed: $(tail -n 1 "$file" | cut -c1-160)"
   done
 done
