@@ -100,7 +100,7 @@ impl Sut for RoadSut<'_> {
             .is_valid()
     }
 
-    /// The road's profile as [`RoadSut::shape`] says (radians).
+    /// The road's profile by the [`RoadShape`] the SUT was given (radians).
     fn shape(&self, test: &[f32]) -> Option<Vec<f32>> {
         let road = Road::new(&self.roads.points(&self.curvature(test))).ok()?;
         Some(
@@ -188,7 +188,7 @@ mod tests {
     }
 
     #[test]
-    fn the_default_shape_is_the_heading_profile_and_written_as_such() {
+    fn the_default_shape_is_the_heading_profile_and_shapes_are_written_by_name() {
         assert_eq!(RoadShape::default(), RoadShape::Headings);
         assert!(RoadShape::default().is_headings());
         let written = serde_json::to_string(&RoadShape::Directions).unwrap();
