@@ -17,8 +17,8 @@ pub enum SearchPreset {
     /// Failures many, distinct and varied as whole roads under the SBST competition's rules:
     /// niches of failures far apart by road shape, each exploited in turn, with no candidate near
     /// a test executed before and mutants of the best tests; in the competition's BeamNG.AI setup
-    /// on roads of 22 curvature values 10 m apart fitted to the map, in its DAVE-2 setup of 16
-    /// (docs/results.md, "The sbst preset").
+    /// on roads of 22 curvature values 12 m apart fitted to the map, in its DAVE-2 setup of 16
+    /// values 10 m apart (docs/results.md, "The sbst preset").
     Sbst,
     /// `sbst` without niches, on shorter roads: more failures, all alike as whole roads
     /// (docs/results.md, "The SBST 2022 field").
@@ -261,7 +261,7 @@ mod tests {
     #[test]
     fn sbst_adds_niches_to_sbst_no_niches_on_roads_of_its_own() {
         // (driver, its roads' curvature values, step and shape, its novelty distance, its
-        // mutants' largest step, where its seeds come from between niches)
+        // mutants' largest step); both search random roads between niches
         for (driver, points, step_m, shape, novelty, max_step) in [
             (
                 DriverKind::BeamNgAiProxy,
