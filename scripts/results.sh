@@ -466,7 +466,8 @@ def sbst_preset_section():
         "ORACLE \"$(seq -s ' ' 1 20)\" TOOLS`; all of their figures are in the field's section). How "
         "the settings were chosen: docs/experiments/2026-11-26-niches.md, 2026-11-26-niche-roads.md, "
         "2026-11-26-sbst-preset.md and 2026-11-26-field-20-runs.md; the DAVE-2 setup's small niches: "
-        "2026-11-27-tiny-niches-larger-steps.md.")
+        "2026-11-27-tiny-niches-larger-steps.md; the BeamNG.AI setup's roads compared by directions: "
+        "2026-11-28-niches-by-directions.md.")
     for oracle in ORACLES:
         preset = runs_of(f"target/sbst/{oracle}.preset-sbst")
         out()
