@@ -7,7 +7,7 @@
 #   scripts/sbst_budget_runs.sh beamng-ai-proxy "$(seq -s ' ' 1 20)" 1h 2h
 #
 # ALGORITHMS chooses the algorithms (default "wogan random"; "preset-sbst" is WOGAN with
-# `--preset sbst`). Runs go to target/sbst/ as
+# `--preset sbst`, "preset-sbst-any-road" the same with `--min-road-turn 0`). Runs go to target/sbst/ as
 # ORACLE.ALGORITHM.SEED.jsonl, exports to target/sbst/export/ORACLE.ALGORITHM.SEED/, the report to
 # target/sbst/report-ORACLE/. With REUSE=1 a run whose file ends with its summary is kept. With
 # EXPORT=0 the runs are not exported (scripts/results.sh reads only the run files; a long run's
@@ -33,6 +33,7 @@ for algorithm in $algorithms; do
       continue
     fi
     case "$algorithm" in
+      preset-sbst-any-road) search=(--algorithm wogan --preset sbst --min-road-turn 0) ;;
       preset-*) search=(--algorithm wogan --preset "${algorithm#preset-}") ;;
       *) search=(--algorithm "$algorithm") ;;
     esac

@@ -410,9 +410,10 @@ fn a_saved_generator_samples_the_roads_a_generator_run_drives() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(stderr.contains(says), "{file}: {stderr}");
     }
-    // The default road shape is not written, so files from before the choice keep their
-    // checksums; another is, and a run from the file compares roads by it.
-    assert!(!text.contains("road_shape"));
+    // The default road shape and least turn are not written, so files from before the choice
+    // keep their checksums; others are, and a run from the file compares and chooses roads by
+    // them.
+    assert!(!text.contains("road_shape") && !text.contains("min_road_turn_rad"));
     let directions = dir.join("directions.json");
     let save = [
         "run",
@@ -420,18 +421,23 @@ fn a_saved_generator_samples_the_roads_a_generator_run_drives() {
         "12",
         "--road-shape",
         "directions",
+        "--min-road-turn",
+        "1.5",
         "--save-generator",
         arg(&directions),
     ];
     assert_eq!(wogan(&save, "").status.code(), Some(0));
     let text = std::fs::read_to_string(&directions).unwrap();
     assert!(text.contains("\"road_shape\":\"directions\""));
+    assert!(text.contains("\"min_road_turn_rad\":1.5"));
     let generated = wogan(
         &["run", "--generator", arg(&directions), "--max-tests", "2"],
         "",
     );
     assert_eq!(generated.status.code(), Some(0));
-    assert_eq!(records(&generated)[0]["config"]["road_shape"], "directions");
+    let config = &records(&generated)[0]["config"];
+    assert_eq!(config["road_shape"], "directions");
+    assert_eq!(config["min_road_turn_rad"], 1.5);
     // Random search trains no generator to save.
     let output = wogan(
         &[

@@ -1,7 +1,8 @@
 //! End-to-end tests of `wogan run`.
 
 use crate::common::{records, scratch_dir, wogan, write_file};
-use road_sim::Validator;
+use road_sim::road::heading_profile::largest_turn_rad;
+use road_sim::{Road, Validator};
 use serde_json::Value;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -208,9 +209,10 @@ fn the_sbst_presets_set_their_roads_novelty_mutants_and_niches_per_setup_and_opt
     // `sbst`, with niches: in the BeamNG.AI setup on roads of 22 values 12 m apart compared by
     // the paper's directions, in the DAVE-2 setup on the BeamNG.AI `sbst-no-niches` roads, filled
     // by each driver's failures.
-    for (oracle, level, points, step_m, shape) in [
-        ("beamng-ai-proxy", 0.85, 22, 12.0, "directions"),
-        ("dave2-proxy", 0.1, 16, 10.0, "headings"),
+    // The DAVE-2 setup tests only roads that turn at least 2.5 rad.
+    for (oracle, level, points, step_m, shape, min_turn_rad) in [
+        ("beamng-ai-proxy", 0.85, 22, 12.0, "directions", 0.0),
+        ("dave2-proxy", 0.1, 16, 10.0, "headings", 2.5),
     ] {
         let config = config_of(&["--oracle", oracle, "--preset", "sbst"]);
         assert_eq!(config["preset"], "sbst");
@@ -218,17 +220,28 @@ fn the_sbst_presets_set_their_roads_novelty_mutants_and_niches_per_setup_and_opt
         assert_eq!(config["road"]["step_m"], step_m, "{oracle}");
         assert_eq!(config["road"]["placement"], "fitted");
         assert_eq!(config["road_shape"], shape, "{oracle}");
+        assert_eq!(config["min_road_turn_rad"], min_turn_rad, "{oracle}");
         let niches = &config["search"]["wogan"]["niches"];
         assert!(niches["quota"].as_u64().unwrap() > 0, "{oracle}");
         assert_eq!(niches["min_fitness"], level, "{oracle}");
     }
     let config = config_of(&["--preset", "sbst", "--road-shape", "headings"]);
     assert_eq!(config["road_shape"], "headings");
+    let config = config_of(&[
+        "--oracle",
+        "dave2-proxy",
+        "--preset",
+        "sbst",
+        "--min-road-turn",
+        "0",
+    ]);
+    assert_eq!(config["min_road_turn_rad"], 0.0);
     // The paper's WOGAN has neither.
     let (_, records) = run(&["--max-tests", "3"]);
     let config = &records[0]["config"];
     assert!(config.get("preset").is_none());
     assert_eq!(config["road_shape"], "headings");
+    assert_eq!(config["min_road_turn_rad"], 0.0);
     assert_eq!(config["search"]["wogan"]["novelty"]["distance"], 0.0);
     assert_eq!(config["search"]["wogan"]["niches"]["quota"], 0);
 }
@@ -313,6 +326,8 @@ fn bad_options_exit_2() {
         &["--preset", "fast"],
         &["--algorithm", "random", "--preset", "sbst"],
         &["--road-shape", "wrapped"],
+        &["--min-road-turn", "7"],
+        &["--min-road-turn", "-1"],
         // The competition's budgets go together, in seconds or as durations, and not with the
         // one real-time budget.
         &["--generation-budget", "3600"],
@@ -554,6 +569,35 @@ fn niches_compare_roads_by_the_shape_asked_for() {
     // The random phase is the same; which candidates a niche admits is not.
     assert_eq!(directions[..20], headings[..20]);
     assert_ne!(directions, headings);
+}
+
+#[test]
+fn a_least_turn_tests_only_roads_that_turn_that_far() {
+    // How far each executed road turns from its first heading at most, radians.
+    let turns_of = |extra: &[&str]| {
+        let args = ["--max-tests", "25", "--seed", "3"];
+        let (code, records) = run(&[&args[..], extra].concat());
+        assert_eq!(code, Some(0), "{extra:?}");
+        let turns = of_type(&records, "test")
+            .into_iter()
+            .map(|test| {
+                let points: Vec<[f64; 2]> = test["road_points"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()])
+                    .collect();
+                largest_turn_rad(&Road::new(&points).unwrap().interpolated)
+            })
+            .collect::<Vec<f64>>();
+        (records[0]["config"]["min_road_turn_rad"].clone(), turns)
+    };
+    let (any, any_turns) = turns_of(&[]);
+    let (least, winding_turns) = turns_of(&["--min-road-turn", "2"]);
+    assert_eq!((any, least), (Value::from(0.0), Value::from(2.0)));
+    assert_eq!(winding_turns.len(), 25);
+    assert!(winding_turns.iter().all(|&t| t >= 2.0), "{winding_turns:?}");
+    assert!(any_turns.iter().any(|&t| t < 2.0), "{any_turns:?}");
 }
 
 #[test]

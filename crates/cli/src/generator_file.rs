@@ -45,6 +45,10 @@ pub struct GeneratorPayload {
     /// default, so that files from before the choice keep their checksums.
     #[serde(default, skip_serializing_if = "RoadShape::is_headings")]
     pub road_shape: RoadShape,
+    /// Least turn of the run's roads from their first heading, radians; not written when 0 (any
+    /// road), so that files from before the choice keep their checksums.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub min_road_turn_rad: f64,
     /// The random sampler's settings (the fallback after too many invalid candidates).
     pub sampler: SamplerConfig,
     /// The networks and the settings they propose with.
@@ -125,6 +129,11 @@ pub fn read(path: &Path) -> Result<GeneratorPayload> {
         );
     }
     Ok(file.payload)
+}
+
+/// Whether a least turn is none (serde's `skip_serializing_if`).
+fn is_zero(turn_rad: &f64) -> bool {
+    *turn_rad == 0.0
 }
 
 /// The wogan version, for the payload.

@@ -83,6 +83,11 @@ pub struct RunArgs {
     /// north, not unwrapped) [default: headings, or the preset's].
     #[arg(long, value_enum)]
     pub road_shape: Option<RoadShape>,
+    /// Test only roads that turn at least this far from their first heading somewhere, radians,
+    /// 0 to 6.283 (a narrower search, not a rule of the competition) [default: 0, any road, or
+    /// the preset's].
+    #[arg(long, value_name = "RAD", value_parser = crate::value_parsers::turn_rad)]
+    pub min_road_turn: Option<f64>,
     /// Distance between road points, metres [default: 15, the paper's, or the preset's].
     #[arg(long, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
     pub step_length: Option<f64>,
@@ -120,7 +125,7 @@ pub struct RunArgs {
     /// Choose every test with the generator and analyzer saved in FILE (`--save-generator`), as
     /// the trained WOGAN chooses: no random phase, no training. Its roads' settings and WOGAN's
     /// settings are the file's.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance", "preset", "road_placement", "road_shape"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance", "preset", "road_placement", "road_shape", "min_road_turn"])]
     pub generator: Option<PathBuf>,
     /// Drive each road with an external program instead of wogan's simulator: `cmd:COMMAND`
     /// (run with `sh -c`; one per worker), speaking the executor protocol (docs/reference.md).
@@ -228,6 +233,8 @@ pub struct RunSettings {
     pub road: CurvatureRoad,
     /// How the niches and the shape novelty rule compare roads.
     pub road_shape: RoadShape,
+    /// Least turn of a tested road from its first heading, radians (0: any road).
+    pub min_road_turn_rad: f64,
     /// How drives are simulated and judged.
     pub sim: SimConfig,
     /// The driver under test and its tuning (serialised as the tuning of that driver).
@@ -352,7 +359,7 @@ impl RunPlan {
             Some(path) => Some(generator_file::read(path)?),
             None => None,
         };
-        let (curvature_points, road, road_shape) = match &generator {
+        let (curvature_points, road, road_shape, min_road_turn_rad) = match &generator {
             Some(saved) => {
                 let typed = (
                     args.curvature_points.unwrap_or(DEFAULT_CURVATURE_POINTS),
@@ -376,7 +383,12 @@ impl RunPlan {
                 }
                 // WOGAN's settings are the ones the networks were trained with.
                 search.wogan = saved.model.config.clone();
-                (saved.curvature_points as u32, saved.road, saved.road_shape)
+                (
+                    saved.curvature_points as u32,
+                    saved.road,
+                    saved.road_shape,
+                    saved.min_road_turn_rad,
+                )
             }
             None => {
                 let preset = args.preset.map(|p| p.roads(kind));
@@ -398,6 +410,9 @@ impl RunPlan {
                     args.road_shape
                         .or(preset.map(|r| r.shape))
                         .unwrap_or_default(),
+                    args.min_road_turn
+                        .or(preset.map(|r| r.min_turn_rad))
+                        .unwrap_or(0.0),
                 )
             }
         };
@@ -421,6 +436,7 @@ impl RunPlan {
                 curvature_points,
                 road,
                 road_shape,
+                min_road_turn_rad,
                 sim,
                 driver,
                 search,

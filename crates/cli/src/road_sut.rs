@@ -1,14 +1,15 @@
 //! The self-driving-car problem as a `wogan-core` system under test: a test vector in `[-1, 1]^d`
-//! is `d` curvature values scaled by the paper's bound, validity is the competition's validator,
-//! and executing a test drives the chosen driver along the road and scores the drive with the
-//! chosen fitness. This adapter is the one place that knows both the search and the roads.
+//! is `d` curvature values scaled by the paper's bound, validity is the competition's validator
+//! (and, when asked, a least turn from the road's first heading), and executing a test drives the
+//! chosen driver along the road and scores the drive with the chosen fitness. This adapter is the
+//! one place that knows both the search and the roads.
 
 use crate::failure_streak::FailureStreak;
 use crate::records::RoadExecution;
 use road_sim::distinct::ExitProfile;
 use road_sim::road::curvature::MAX_CURVATURE_PER_M;
 use road_sim::road::diversity_profile::diversity_profile;
-use road_sim::road::heading_profile::heading_profile;
+use road_sim::road::heading_profile::{heading_profile, largest_turn_rad};
 use road_sim::{
     simulate, CurvatureRoad, DriverConfig, FitnessKind, Road, SimConfig, StopReason, Validator,
 };
@@ -63,6 +64,9 @@ pub struct RoadSut<'a> {
     pub curvature_points: usize,
     /// How the niches and the shape novelty rule compare roads.
     pub shape: RoadShape,
+    /// Roads that never turn this far from their first heading are not tested (radians; 0:
+    /// every valid road is).
+    pub min_turn_rad: f64,
     /// The competition's rules.
     pub validator: Validator,
     /// The driver under test.
@@ -94,10 +98,15 @@ impl Sut for RoadSut<'_> {
         self.curvature_points
     }
 
+    /// Valid by the competition's rules and, when a least turn is asked for, turning that far.
     fn is_valid(&self, test: &[f32]) -> bool {
-        self.validator
-            .validate(&self.roads.points(&self.curvature(test)))
-            .is_valid()
+        let points = self.roads.points(&self.curvature(test));
+        if !self.validator.validate(&points).is_valid() {
+            return false;
+        }
+        self.min_turn_rad <= 0.0
+            || Road::new(&points)
+                .is_ok_and(|road| largest_turn_rad(&road.interpolated) >= self.min_turn_rad)
     }
 
     /// The road's profile by the [`RoadShape`] the SUT was given (radians).
@@ -185,6 +194,39 @@ mod tests {
             largest(&directions) <= PI,
             "directions wrapped: {directions:?}"
         );
+    }
+
+    #[test]
+    fn a_least_turn_rejects_valid_roads_that_turn_less() {
+        let stop = AtomicBool::new(false);
+        let sut = |min_turn_rad: f64| RoadSut {
+            roads: CurvatureRoad {
+                step_m: 10.0,
+                placement: road_sim::RoadPlacement::Fitted,
+                ..CurvatureRoad::default()
+            },
+            curvature_points: 16,
+            shape: RoadShape::Headings,
+            min_turn_rad,
+            validator: Validator::new(200.0),
+            driver: DriverConfig::default_for(road_sim::DriverKind::BeamNgAiProxy),
+            sim: SimConfig::default(),
+            fitness: FitnessKind::Bolp,
+            stop: &stop,
+            streak: None,
+        };
+        // Straight, and a bend of about 2.2 rad (0.028 1/m over 80 m) then straight.
+        let straight = [0.0_f32; 16];
+        let mut bend = [0.0_f32; 16];
+        bend[..8].fill(0.4);
+        let anything = sut(0.0);
+        assert!(anything.is_valid(&straight) && anything.is_valid(&bend));
+        let points = anything.roads.points(&anything.curvature(&bend));
+        let turn = largest_turn_rad(&Road::new(&points).unwrap().interpolated);
+        assert!((2.0..2.5).contains(&turn), "{turn}");
+        assert!(!sut(0.5).is_valid(&straight));
+        assert!(sut(turn - 0.05).is_valid(&bend));
+        assert!(!sut(turn + 0.05).is_valid(&bend));
     }
 
     #[test]

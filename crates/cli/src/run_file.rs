@@ -28,7 +28,8 @@ pub struct RunKey {
     /// search and for headers without these settings.
     pub acceptance: String,
     /// The roads' shape when it is not the paper's five curvature values 15 m apart
-    /// (`8 x 15 m roads`); empty for the paper's and for runs that do not say.
+    /// (`8 x 15 m roads`), with a least turn when one was asked for; empty for the paper's and
+    /// for runs that do not say.
     pub roads: String,
 }
 
@@ -265,8 +266,8 @@ fn acceptance(algorithm: &str, config: &Value) -> String {
 }
 
 /// The roads' shape unless it is the paper's (five curvature values, 15 m apart) or unknown, their
-/// placement unless it is the paper's (from the bottom centre), and how the search compared them
-/// unless by the heading profile.
+/// placement unless it is the paper's (from the bottom centre), how the search compared them
+/// unless by the heading profile, and their least turn unless any road was tested.
 fn roads(config: &Value) -> String {
     let points = config.pointer("/curvature_points").and_then(Value::as_u64);
     let step_m = config.pointer("/road/step_m").and_then(Value::as_f64);
@@ -281,10 +282,16 @@ fn roads(config: &Value) -> String {
         _ => shape,
     };
     // Older headers and the default (the heading profile) say nothing.
-    match config.pointer("/road_shape").and_then(Value::as_str) {
+    let compared = match config.pointer("/road_shape").and_then(Value::as_str) {
         Some("directions") if placed.is_empty() => "roads compared by directions".to_owned(),
         Some("directions") => format!("{placed}, compared by directions"),
         _ => placed,
+    };
+    // Older headers and the default (any road) say nothing.
+    match config.pointer("/min_road_turn_rad").and_then(Value::as_f64) {
+        Some(turn) if turn > 0.0 && compared.is_empty() => format!("roads turning {turn} rad"),
+        Some(turn) if turn > 0.0 => format!("{compared}, turning {turn} rad"),
+        _ => compared,
     }
 }
 
@@ -441,7 +448,7 @@ mod tests {
     }
 
     #[test]
-    fn novelty_and_road_shape_group_runs_apart() {
+    fn novelty_road_shape_and_least_turn_group_runs_apart() {
         let key_of = |config: &str| {
             let header: Header = serde_json::from_str(&format!(
                 r#"{{"version":"0.1.0","algorithm":"wogan","oracle":"beamng-ai-proxy","fitness":"bolp","config":{config}}}"#
@@ -511,6 +518,17 @@ mod tests {
             r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"road_shape":"headings","search":{"wogan":{"target_decay":0.95}}}"#,
         );
         assert_eq!(headings, fitted);
+        let winding = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"road_shape":"headings","min_road_turn_rad":2.5,"search":{"wogan":{"target_decay":0.95}}}"#,
+        );
+        assert_eq!(winding.roads, "8 x 15 m roads, fitted, turning 2.5 rad");
+        let any_road = key_of(
+            r#"{"curvature_points":8,"road":{"step_m":15.0,"placement":"fitted"},"min_road_turn_rad":0.0,"search":{"wogan":{"target_decay":0.95}}}"#,
+        );
+        assert_eq!(any_road, fitted);
+        let paper_roads =
+            key_of(r#"{"curvature_points":5,"road":{"step_m":15.0},"min_road_turn_rad":1.0}"#);
+        assert_eq!(paper_roads.roads, "roads turning 1 rad");
     }
 
     #[test]

@@ -47,6 +47,16 @@ fn within(text: &str, unit: &str, max: f64) -> Result<f64, String> {
     }
 }
 
+/// A road's least turn from its first heading in radians: from 0 (any road) to a whole turn.
+pub fn turn_rad(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if (0.0..=std::f64::consts::TAU).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "expected a turn in radians from 0 to a whole turn (6.283), got {text:?}"
+        )),
+    }
+}
+
 /// A speed in km/h, above 0 and at most 300.
 pub fn positive_kmh(text: &str) -> Result<f64, String> {
     within(text, "km/h", 300.0)
@@ -190,6 +200,14 @@ mod tests {
         assert_eq!(network.kind, DriverKind::Onnx);
         assert_eq!(network.model, Some("models/dave2.onnx".into()));
         assert!(oracle("onnx:").unwrap_err().contains("no model file"));
+        assert_eq!(turn_rad("2.5"), Ok(2.5));
+        assert_eq!(turn_rad("0"), Ok(0.0));
+        for refused in ["-0.1", "6.3", "NaN", "inf", "half"] {
+            assert!(
+                turn_rad(refused).unwrap_err().contains("radians"),
+                "{refused}"
+            );
+        }
         assert_eq!(fitness_kind("bolp-scaled"), Ok(FitnessKind::BolpScaled));
         assert!(fitness_kind("speed").is_err());
         assert_eq!(

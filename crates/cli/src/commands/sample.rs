@@ -57,6 +57,7 @@ pub fn run(args: &SampleArgs) -> Result<Status> {
         roads: saved.road,
         curvature_points: saved.curvature_points,
         shape: saved.road_shape,
+        min_turn_rad: saved.min_road_turn_rad,
         validator: Validator::new(saved.road.map_size_m),
         driver: DriverConfig::default_for(DriverKind::BeamNgAiProxy),
         sim: SimConfig::default(),

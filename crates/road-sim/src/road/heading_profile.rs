@@ -29,6 +29,14 @@ pub fn heading_profile(line: &[Point]) -> Vec<f64> {
     profile
 }
 
+/// How far `line` (at least two points) turns from its first heading at most, either way: the
+/// largest magnitude of its [`heading_profile`], radians.
+pub fn largest_turn_rad(line: &[Point]) -> f64 {
+    heading_profile(line)
+        .into_iter()
+        .fold(0.0, |largest, heading| largest.max(heading.abs()))
+}
+
 /// `count` points along `line`, evenly spaced by arc length, first and last included.
 pub fn resample_by_arc_length(line: &[Point], count: usize) -> Vec<Point> {
     let mut cumulative = Vec::with_capacity(line.len());
@@ -66,6 +74,27 @@ mod tests {
         let profile = heading_profile(&[[0.0, 0.0], [3.0, 4.0], [30.0, 40.0]]);
         assert_eq!(profile.len(), PROFILE_POINTS - 1);
         assert!(profile.iter().all(|h| h.abs() < 1e-12));
+    }
+
+    #[test]
+    fn the_largest_turn_is_the_farthest_either_way_from_the_start() {
+        assert!(largest_turn_rad(&[[0.0, 0.0], [3.0, 4.0], [30.0, 40.0]]) < 1e-12);
+        // A quarter turn right (clockwise), then 225° left: 90° right of the start at most that
+        // way, 135° left of it at the end.
+        let right = (0..=90).map(|i| {
+            let a = f64::from(i).to_radians();
+            [50.0 - 50.0 * a.cos(), 50.0 * a.sin()]
+        });
+        let left = (1..=225).map(|i| {
+            let a = f64::from(i).to_radians();
+            [50.0 + 50.0 * a.sin(), 50.0 + 50.0 - 50.0 * a.cos()]
+        });
+        let line: Vec<Point> = right.chain(left).collect();
+        let largest = largest_turn_rad(&line);
+        assert!(
+            (largest - 0.75 * std::f64::consts::PI).abs() < 0.05,
+            "{largest}"
+        );
     }
 
     #[test]
