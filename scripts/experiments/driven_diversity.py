@@ -93,14 +93,20 @@ def run_figures(path, interpolate, max_failures):
     profiles = np.array([heading_profile(road) for road, _ in roads])
     values = profiles.shape[1]
     driven = np.array([driven_values(road, exit_point, values) for road, exit_point in roads])
+    whole, driven_part = pair_distances(profiles, driven)
+    return count, float(np.median(whole)), float(np.median(driven_part)), float(np.median(driven)) / values
+
+
+def pair_distances(profiles, driven):
+    """(whole-road, driven-part) Euclidean distance of every pair of `profiles` (one row per road),
+    `driven` giving each road's count of driven profile values (driven_values)."""
+    values = profiles.shape[1]
     squared = (profiles[:, None, :] - profiles[None, :, :]) ** 2
     # A pair is compared up to the later of its two exits (+ REACH_M).
     reach = np.maximum(driven[:, None], driven[None, :])
     within = np.arange(values)[None, None, :] < reach[:, :, None]
-    pairs = np.triu_indices(len(roads), 1)
-    whole = np.sqrt(squared.sum(-1))[pairs]
-    driven_part = np.sqrt((squared * within).sum(-1))[pairs]
-    return count, float(np.median(whole)), float(np.median(driven_part)), float(np.median(driven)) / values
+    pairs = np.triu_indices(len(profiles), 1)
+    return np.sqrt(squared.sum(-1))[pairs], np.sqrt((squared * within).sum(-1))[pairs]
 
 
 def main():

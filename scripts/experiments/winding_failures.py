@@ -26,7 +26,7 @@ import sys
 import numpy as np
 
 from direction_measures import authors_directions, run_paths
-from driven_diversity import driven_values, failures
+from driven_diversity import driven_values, failures, pair_distances
 
 MIDDLE = 37
 BACK_RAD = 2.5
@@ -34,13 +34,8 @@ BACK_RAD = 2.5
 
 def subset_figures(profiles, driven):
     """(failures, whole-road median, driven-part median) of the authors' profiles given."""
-    values = profiles.shape[1]
-    squared = (profiles[:, None, :] - profiles[None, :, :]) ** 2
-    reach = np.maximum(driven[:, None], driven[None, :])
-    within = np.arange(values)[None, None, :] < reach[:, :, None]
-    pairs = np.triu_indices(len(profiles), 1)
-    return (len(profiles), float(np.median(np.sqrt(squared.sum(-1))[pairs])),
-            float(np.median(np.sqrt((squared * within).sum(-1))[pairs])))
+    whole, driven_part = pair_distances(profiles, driven)
+    return len(profiles), float(np.median(whole)), float(np.median(driven_part))
 
 
 def main():

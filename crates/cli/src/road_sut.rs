@@ -100,13 +100,17 @@ impl Sut for RoadSut<'_> {
 
     /// Valid by the competition's rules and, when a least turn is asked for, turning that far.
     fn is_valid(&self, test: &[f32]) -> bool {
-        let points = self.roads.points(&self.curvature(test));
-        if !self.validator.validate(&points).is_valid() {
-            return false;
+        let verdict = self
+            .validator
+            .validate(&self.roads.points(&self.curvature(test)));
+        // A valid verdict carries the road the validator interpolated: no second interpolation.
+        match verdict.road {
+            Some(road) if verdict.reason.is_none() => {
+                self.min_turn_rad <= 0.0
+                    || largest_turn_rad(&road.interpolated) >= self.min_turn_rad
+            }
+            _ => false,
         }
-        self.min_turn_rad <= 0.0
-            || Road::new(&points)
-                .is_ok_and(|road| largest_turn_rad(&road.interpolated) >= self.min_turn_rad)
     }
 
     /// The road's profile by the [`RoadShape`] the SUT was given (radians).
