@@ -97,6 +97,8 @@ export MISSING=$missing
 mkdir -p "$WORK" "$(dirname "$OUT")"
 python3 - <<'PY'
 import datetime, glob, json, os, re, statistics, subprocess, sys, time
+sys.path.insert(0, "scripts/peers")
+import crashes  # which peers' runs a crash ended, and whose crash it was
 
 WOGAN = os.environ["WOGAN"]
 SEEDS = os.environ["SEEDS"].split()
@@ -373,13 +375,82 @@ def runs_of(prefix):
 def peer_runs(oracle, tool):
     """The result folders of one peer's whole runs (scripts/peers/campaign.sh), in seed order:
     a run a signal cut short, whose summary names the signal, is left out (the campaign runs it
-    again)."""
+    again). A run a crash ended that its tool did not have in its competition stops the page:
+    it measures the harness, not the tool (scripts/peers/crashes.py)."""
     def whole(summary_path):
         with open(summary_path) as f:
             return json.load(f).get("interrupted") is None
     found = glob.glob(f"target/peers/{oracle}.{tool}.*/summary.json")
     seeded = [(int(p.split("/")[-2].rsplit(".", 1)[-1]), p) for p in found]
-    return [os.path.dirname(p) for _, p in sorted(seeded) if whole(p)]
+    folders = [os.path.dirname(p) for _, p in sorted(seeded) if whole(p)]
+    for folder in folders:
+        verdict = crashes.classify(folder)
+        if verdict and not verdict[0]:
+            sys.exit(f"results.sh: {folder}: {verdict[1]}; fix the harness and run it again")
+    return folders
+
+
+# A row whose runs are not on the machine that regenerates a section is kept as the page had it,
+# marked KEPT, so that regenerating the rows whose runs changed does not drop the others (the
+# runs are deterministic by seed, AmbieGen's excepted). The note under such a table says so.
+KEPT = "‡"
+
+
+def page_tables(heading, oracle):
+    """The tables of the page as it is (OUT) under `## heading`, subsection `### oracle`: one
+    {first cell without "(N runs)": row} per table, in order."""
+    try:
+        with open(os.environ["OUT"]) as f:
+            text = f.read().split("\n")
+    except FileNotFoundError:
+        return []
+    _, blocks = split(text, "## ")
+    block = next((b for b in blocks if b[0] == f"## {heading}"), [])
+    _, subsections = split(block, "### ")
+    sub = next((b for b in subsections if b[0] == f"### {oracle}"), [])
+    tables, current = [], None
+    for line in sub:
+        if line.startswith("|"):
+            if current is None:
+                current = {}
+                tables.append(current)
+            first = line.strip("|").split("|")[0].strip()
+            if not set(first) <= set("-"):
+                current[re.sub(r" \(\d+ runs\)$", "", first.replace(f" {KEPT}", ""))] = line
+        else:
+            current = None
+    return tables
+
+
+def kept_row(tables, index, name, column):
+    """Row `name` of the page's table `index` (page_tables), its cell `column` marked KEPT; None
+    when the page has no such row."""
+    row = tables[index].get(name) if index < len(tables) else None
+    if row is None or name in ("tool", "B"):
+        return None
+    cells = row.strip().strip("|").split("|")
+    if KEPT not in cells[column]:
+        cells[column] = f"{cells[column].rstrip()} {KEPT} "
+    return "|" + "|".join(cells) + "|"
+
+
+def kept_note(commit):
+    """The note under a table with kept rows."""
+    return (f"{KEPT} kept as the page had it at commit {commit}: the row's run files are not on "
+            "the machine that regenerated this section.")
+
+
+def page_commit():
+    """The commit of the page as it is (the last that changed OUT)."""
+    done = subprocess.run(["git", "log", "-1", "--format=%h", "--", os.environ["OUT"]],
+                          capture_output=True, text=True)
+    return done.stdout.strip() or "?"
+
+
+def runs_cell(paths):
+    """How many runs a row is of, and how many of them the tool's own crash ended."""
+    crashed = sum(1 for p in paths if os.path.isdir(p) and crashes.classify(p))
+    return f"{len(paths)} ({crashed} crashed)" if crashed else str(len(paths))
 
 
 def compared(a_paths, b_paths, measures):
@@ -410,13 +481,20 @@ def field_section():
         "heading back alike (angles near +π and near −π) count as near (docs/experiments/"
         "2026-11-27-wrap-and-shape.md). The peers' seeds seed Python's and "
         "numpy's generators; AmbieGen seeds pymoo from the clock and cannot be repeated, and a run "
-        "of it takes 26–45 minutes against one or two of the other tools', so it has fewer runs.")
+        "of it takes 26–45 minutes against one or two of the other tools', so it has fewer runs. "
+        "Each tool runs with the libraries of its competition's year (`scripts/peers/setup.sh`: "
+        "Frenetic (2021) with the pandas of February 2021, under which it runs its whole budget); a "
+        "run a crash ended counts with what it had and is counted in brackets beside the runs, and "
+        "only a crash the tool had in its competition is tabled (`scripts/peers/crashes.py`; any "
+        "other stops this page as the harness's defect).")
     for oracle in ORACLES:
+        page = page_tables("The SBST 2022 field on our simulator", oracle)
+        kept = False
         groups = []
         for tag, name in OURS:
             paths = runs_of(f"target/sbst/{oracle}.{tag}")
             # Only the DAVE-2 setup's preset has a least turn to leave out.
-            if paths or tag != "preset-sbst-any-road":
+            if paths or tag != "preset-sbst-any-road" or kept_row(page, 0, name, 1):
                 groups.append((name, paths))
         for tool, name in PEERS:
             groups.append((name, peer_runs(oracle, tool)))
@@ -427,14 +505,16 @@ def field_section():
         out("|---|---|" + "---|" * len(FIELD_ROWS))
         for name, paths in groups:
             if not paths:
-                out(f"| {name} | 0 |" + " – |" * len(FIELD_ROWS))
+                row = kept_row(page, 0, name, 1)
+                kept |= row is not None
+                out(row or f"| {name} | 0 |" + " – |" * len(FIELD_ROWS))
                 continue
             figures = group_means(paths)
             cells = []
             for key, _ in FIELD_ROWS:
                 found = next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))
                 cells.append(rounded(found[0]))
-            out(f"| {name} | {len(paths)} | " + " | ".join(cells) + " |")
+            out(f"| {name} | {runs_cell(paths)} | " + " | ".join(cells) + " |")
         preset = groups[0][1]
         if not preset:
             continue
@@ -445,9 +525,16 @@ def field_section():
         out("|---|" + "---|" * len(FIELD_COMPARED))
         for name, paths in groups[1:]:
             if not paths:
+                row = kept_row(page, 1, name, 0)
+                kept |= row is not None
+                if row:
+                    out(row)
                 continue
             rows = compared(preset, paths, FIELD_COMPARED)
             out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
+        if kept:
+            out()
+            out(kept_note(page_commit()))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -480,26 +567,30 @@ def sbst_preset_section():
         if not preset:
             out(f"Runs missing: `ALGORITHMS=preset-sbst scripts/sbst_budget_runs.sh {oracle} ...`.")
             continue
+        page = page_tables("The `sbst` preset", oracle)
+        kept = False
         out(f"A: {len(preset)} runs of `--preset sbst`.")
         out()
         out("| B | " + " | ".join(f"{m}: A / B, p" for m in PRESET_COMPARED) + " |")
         out("|---|" + "---|" * len(PRESET_COMPARED))
         # The seeds A has, so that both sides are the same searches' luck.
         seeds = {n.rsplit(".", 2)[-2] for n in preset}
-        for tag, name in OURS[1:3] + OURS[4:]:
-            paths = [p for p in runs_of(f"target/sbst/{oracle}.{tag}")
-                     if p.rsplit(".", 2)[-2] in seeds]
+        others = [(name, [p for p in runs_of(f"target/sbst/{oracle}.{tag}")
+                          if p.rsplit(".", 2)[-2] in seeds]) for tag, name in OURS[1:3] + OURS[4:]]
+        # And the peers' runs (scripts/peers/campaign.sh), each against A.
+        others += [(name, peer_runs(oracle, tool)) for tool, name in PEERS]
+        for name, paths in others:
             if not paths:
+                row = kept_row(page, 0, name, 0)
+                kept |= row is not None
+                if row:
+                    out(row)
                 continue
             rows = compared(preset, paths, PRESET_COMPARED)
             out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in PRESET_COMPARED) + " |")
-        # The peers whose runs are on this machine (scripts/peers/campaign.sh), each against A.
-        for tool, name in PEERS:
-            paths = peer_runs(oracle, tool)
-            if not paths:
-                continue
-            rows = compared(preset, paths, PRESET_COMPARED)
-            out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in PRESET_COMPARED) + " |")
+        if kept:
+            out()
+            out(kept_note(page_commit()))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1211,6 +1211,29 @@ fn a_result_folder_reads_as_the_run_it_was_exported_from() {
     let invalid = vs_cells(&vs, "invalid candidates rejected before proposing");
     assert_eq!(invalid.0, "0.000 (–) n=1");
 
+    // A run its generator's exception ended is named under the table with the exception, and
+    // the exit status says an input did not end normally; its tests still count.
+    let crashed = json!({"type": "summary", "generator": "fake.generators.FakeGen",
+        "oracle": "beamng-ai-proxy", "oob_tolerance": 0.85, "speed_limit": 70, "seed": 1,
+        "crashed": "pandas.errors.InvalidIndexError: You can only assign a scalar value"});
+    std::fs::write(peer.join("summary.json"), crashed.to_string()).unwrap();
+    let table = wogan(&["report", path_str(&peer), "--table"], "");
+    assert_eq!(table.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&table.stdout);
+    assert!(
+        stdout.contains(&format!(
+            "- `{}`: failed part-way: the generator crashed: pandas.errors.InvalidIndexError: You \
+             can only assign a scalar value",
+            peer.display()
+        )),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("| 1 | "),
+        "the crashed run still counts: {stdout}"
+    );
+    std::fs::write(peer.join("summary.json"), summary.to_string()).unwrap();
+
     // A truncated file and a foreign one: each named with its field, the rest read, exit 1.
     let text = read(&peer.join("test.0004.json"));
     std::fs::write(peer.join("test.0004.json"), &text[..text.len() / 2]).unwrap();

@@ -23,7 +23,7 @@ pub struct GroupSection {
     /// The group's configuration.
     pub label: String,
     /// Each run's file and how it ended when not normally.
-    pub files: Vec<(String, Option<&'static str>)>,
+    pub files: Vec<(String, Option<String>)>,
     /// The group's figures.
     pub figures: GroupFigures,
     /// The group's pictures.
@@ -164,7 +164,9 @@ fn group(number_1: usize, section: &GroupSection) -> String {
     let f = &section.figures;
     let mut text = format!("## Group {number_1}: {}\n\n", section.label);
     for (file, note) in &section.files {
-        let note = note.map_or_else(String::new, |n| format!(" ({n})"));
+        let note = note
+            .as_ref()
+            .map_or_else(String::new, |n| format!(" ({n})"));
         let _ = writeln!(text, "- `{file}`{note}");
     }
     text.push_str("\n| measure | mean | SD | runs |\n|---|---|---|---|\n");

@@ -174,13 +174,16 @@ pub fn runs_report(a_paths: &[PathBuf], b_paths: &[PathBuf], out: &Path) -> Resu
 }
 
 /// How a run ended, when not normally.
-pub(super) fn end_note(run: &RunFile) -> Option<&'static str> {
+pub(super) fn end_note(run: &RunFile) -> Option<String> {
     match &run.summary {
-        None => Some("truncated: no summary record"),
-        // A run that gave up is stopped like an interrupted one; the error says why.
-        Some(summary) if summary.error.is_some() => Some("failed part-way (its summary says why)"),
-        Some(summary) if summary.interrupted => Some("interrupted"),
-        Some(_) => None,
+        None => Some("truncated: no summary record".to_owned()),
+        // A run that gave up (a search's error, a peer generator's crash) is stopped like an
+        // interrupted one; the error says why.
+        Some(summary) => match &summary.error {
+            Some(error) => Some(format!("failed part-way: {error}")),
+            None if summary.interrupted => Some("interrupted".to_owned()),
+            None => None,
+        },
     }
 }
 

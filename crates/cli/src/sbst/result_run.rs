@@ -14,7 +14,9 @@
 //! The configuration comes from the `summary.json` the peers' harness
 //! (`scripts/peers/run_peer.py`) writes beside the tests: `generator` names the algorithm,
 //! `oracle` the driver, `oob_tolerance` and `speed_limit` the conditions, `interrupted` the signal
-//! that cut the run short (a run so ended is reported as interrupted, as a `wogan run` would be).
+//! that cut the run short (a run so ended is reported as interrupted, as a `wogan run` would be),
+//! `crashed` the exception that ended the generator (reported as a run that failed part-way, with
+//! the exception: a crashed run is never a whole one).
 //! Without it (a bare pipeline folder, an export) the algorithm is the folder's name and the rest
 //! read `?`: nothing is guessed.
 
@@ -80,7 +82,9 @@ pub fn read_result_folder(dir: &Path) -> Result<RunFile> {
         diversity: None,
         diversity_pairs: String::new(),
         interrupted: ending.interrupted,
-        error: None,
+        error: ending
+            .crashed
+            .map(|exception| format!("the generator crashed: {exception}")),
     };
     Ok(RunFile {
         path: dir.to_path_buf(),
@@ -100,6 +104,8 @@ struct HarnessEnding {
     wall_s: f64,
     /// Whether a signal cut the run short (the summary names it).
     interrupted: bool,
+    /// The last line of the exception that ended the generator, if one did.
+    crashed: Option<String>,
 }
 
 /// The run's header from the harness's `summary.json`, or from the folder's name alone; and how
@@ -166,6 +172,10 @@ fn folder_header(dir: &Path, problems: &mut Vec<String>) -> (RunHeader, HarnessE
             .and_then(Value::as_f64)
             .unwrap_or(f64::NAN),
         interrupted: summary.get("interrupted").is_some_and(|s| !s.is_null()),
+        crashed: summary
+            .get("crashed")
+            .filter(|c| !c.is_null())
+            .map(|c| c.as_str().map_or_else(|| c.to_string(), str::to_owned)),
     };
     (header, ending)
 }
@@ -536,6 +546,17 @@ mod tests {
         let summary = run.summary.unwrap();
         assert!(summary.interrupted);
         assert_eq!(summary.wall_s, 12.5);
+        assert_eq!(summary.error, None);
+        // A run its generator's exception ended failed part-way, with the exception's line.
+        let crashed = json!({"generator": "src.generators.Frenetic", "seed": 2,
+            "crashed": "pandas.errors.InvalidIndexError: scalar", "interrupted": null});
+        std::fs::write(dir.join("summary.json"), crashed.to_string()).unwrap();
+        let summary = read_result_folder(&dir).unwrap().summary.unwrap();
+        assert!(!summary.interrupted);
+        assert_eq!(
+            summary.error.as_deref(),
+            Some("the generator crashed: pandas.errors.InvalidIndexError: scalar")
+        );
         std::fs::write(dir.join("summary.json"), "[1]").unwrap();
         let run = read_result_folder(&dir).unwrap();
         assert!(
