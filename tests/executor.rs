@@ -108,6 +108,8 @@ fn a_faulty_executor_fails_one_road_and_is_restarted_for_the_next() {
         // after it and naming road 4.
         ("flood", "more than one line for one request"),
         ("late-second", "more than one line for one request (a second answer to road 4)"),
+        // An executor's own ERROR keeps its reason (and the executor, which answered).
+        ("error", "the executor: the simulator refused road 4"),
     ] {
         let Some(executor) = faulty(mode, 4) else { return };
         let dir = scratch_dir(&format!("executor-{mode}"));

@@ -6,7 +6,8 @@
 Every road is answered, naming it by its `id`, as passed (max BOLP 0.01, 2 simulated seconds) except the road whose
 `id` is ROAD_ID, where MODE happens: `crash` (exit 3 after a line on stderr), `hang` (never
 answer), `garbage` (a line that is not JSON), `range` (max_bolp 7), `flood` (two lines), `late-second` (a second answer to it written only once the next road has been
-read), `wrong-id` (the answer names another road), or
+read), `wrong-id` (the answer names another road), `error` (an honest ERROR with the reason in
+`error`, as an executor whose simulator refused the road answers), or
 `fail` (an honest failure: max BOLP 0.9). MODE `always-crash` exits at every road. Standard
 library only.
 """
@@ -45,6 +46,9 @@ for line in sys.stdin:
             print(json.dumps(answer), flush=True)
         if mode == "late-second":
             late = answer
+        if mode == "error":
+            answer = {"id": message["id"], "max_bolp": 0, "outcome": "ERROR",
+                      "error": f"the simulator refused road {message['id']}"}
         if mode == "fail":
             answer = {"id": message["id"], "max_bolp": 0.9, "oob_side": "left", "sim_time_s": 1.5}
     print(json.dumps(answer), flush=True)

@@ -3,8 +3,9 @@
 //! line), `bye` before it closes the executor's input (not answered). An answer is one JSON object:
 //! `id` (required: the road it answers) and `max_bolp` (required, in `[0, 1]`), and optionally
 //! `outcome` (`PASS`, `FAIL` or `ERROR`; derived from the tolerance when absent), `sim_time_s`
-//! (simulated seconds, charged to the execution budget; 0 when absent) and `oob_side` (`left` or
-//! `right`). Other fields are ignored, so `wogan simulate`'s `result` lines, which echo the input's
+//! (simulated seconds, charged to the execution budget; 0 when absent), `oob_side` (`left` or
+//! `right`) and `error` (text: why the road could not be driven, kept in the test record of an
+//! `ERROR`). Other fields are ignored, so `wogan simulate`'s `result` lines, which echo the input's
 //! `id`, are answers.
 //!
 //! Version 2 added the answer's `id`: without it, a second line for one road could be taken for the
@@ -51,7 +52,7 @@ pub enum Request<'a> {
 }
 
 /// An executor's answer, checked.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Answer {
     /// Largest BOLP of the drive, `[0, 1]`.
     pub max_bolp: f64,
@@ -61,6 +62,8 @@ pub struct Answer {
     pub sim_time_s: f64,
     /// Which edge of its lane the car left over, when the executor says.
     pub oob_side: Option<road_sim::LaneSide>,
+    /// Why the road could not be driven, when the executor says (kept for an `ERROR`).
+    pub error: Option<String>,
 }
 
 /// Why an answer line is not an answer to the road asked; each names the field at fault.
@@ -159,11 +162,17 @@ pub fn parse_answer(
             ))
         }
     };
+    let error = match object.get("error") {
+        None | Some(Value::Null) => None,
+        Some(Value::String(text)) => Some(text.clone()),
+        Some(other) => return Err(field("error", format!("{other} is not text"))),
+    };
     Ok(Answer {
         max_bolp,
         outcome,
         sim_time_s,
         oob_side,
+        error,
     })
 }
 
@@ -181,6 +190,16 @@ mod tests {
         let a = parse_answer(r#"{"id": 3, "max_bolp": 0.5, "outcome": "ERROR", "sim_time_s": 7.5, "oob_side": "right", "x": 1}"#, 3, None, 0.85).unwrap();
         assert_eq!(a.outcome, Outcome::Error);
         assert_eq!(a.oob_side, Some(road_sim::LaneSide::Right));
+        assert_eq!(a.error, None);
+        // An ERROR's reason, in the executor's words.
+        let a = parse_answer(
+            r#"{"id": 3, "max_bolp": 0, "outcome": "ERROR", "error": "MetaDrive: no lane"}"#,
+            3,
+            None,
+            0.85,
+        )
+        .unwrap();
+        assert_eq!(a.error.as_deref(), Some("MetaDrive: no lane"));
         // `wogan simulate`'s answers are answers.
         let a = parse_answer(r#"{"type":"result","line":2,"id":3,"outcome":"PASS","reason":null,"max_bolp":1e-14,"sim_time_s":6.5}"#, 3, None, 0.85).unwrap();
         assert_eq!((a.outcome, a.sim_time_s), (Outcome::Pass, 6.5));
@@ -214,6 +233,10 @@ mod tests {
             (
                 r#"{"id": 3, "max_bolp": 0.1, "oob_side": "up"}"#,
                 "oob_side:",
+            ),
+            (
+                r#"{"id": 3, "max_bolp": 0.1, "error": 7}"#,
+                "error: 7 is not text",
             ),
         ] {
             let error = parse_answer(line, 3, Some(2), 0.85)

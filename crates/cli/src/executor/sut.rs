@@ -180,6 +180,12 @@ impl Sut for ExecutorSut<'_> {
                     side,
                     sbst_side: None,
                 });
+                // An executor's own ERROR keeps its reason, as wogan's own failed drives do.
+                if answer.outcome == Outcome::Error {
+                    result.error = answer
+                        .error
+                        .map(|error| format!("road {id}: the executor: {error}"));
+                }
                 result
             }
             Err(None) => return None,
