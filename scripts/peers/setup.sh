@@ -69,7 +69,14 @@ fi
 # pipeline's (the validator every tool meets is the 2022 pipeline's, with the same verdicts).
 if [ ! -f venv-2021/.ready ]; then
   rm -rf venv-2021
-  python_2021=${PYTHON_2021:-$(command -v python3.7 || ls "$HOME"/.pyenv/versions/3.7*/bin/python3.7 2>/dev/null | tail -n 1)}
+  # The first candidate that runs and is 3.7 (pyenv's shim for a version not selected does not).
+  python_2021=""
+  for candidate in ${PYTHON_2021:-} python3.7 "$HOME"/.pyenv/versions/3.7*/bin/python3.7; do
+    if "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 7))' 2> /dev/null; then
+      python_2021=$candidate
+      break
+    fi
+  done
   [ -n "$python_2021" ] || { echo "setup.sh: no Python 3.7 found: set PYTHON_2021" >&2; exit 2; }
   "$python_2021" -m venv venv-2021
   venv-2021/bin/pip install -q numpy==1.19.3 scipy==1.5.4 pandas==1.2.2 \

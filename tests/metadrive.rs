@@ -1,0 +1,196 @@
+//! End-to-end test of the MetaDrive executor (examples/metadrive/): a simulator nobody here wrote,
+//! driven through `wogan run --executor`. Protocol lines piped to the executor (a straight road
+//! passes, a tight U-turn leaves the lane on a side); a 20-test search with `--jobs 2` whose every
+//! test is answered; Ctrl-C of a search; and after each, no executor left running.
+//!
+//! MetaDrive is not a build dependency: `examples/metadrive/setup.sh` makes its venv. Without the
+//! venv the test says so and checks nothing, unless WOGAN_REQUIRE_METADRIVE is set (CI sets it, after
+//! running setup.sh), when it fails.
+
+use crate::common::{scratch_dir, spawn, watchdog, wogan};
+use serde_json::Value;
+use std::io::{BufReader, Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::Ordering;
+use std::time::Duration;
+
+/// The checkout.
+const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+/// The executor script, as its README names it; also what finds its processes.
+const EXECUTOR: &str = "examples/metadrive/executor.py";
+
+/// The venv's Python, or `None` (said so) when setup.sh has not made it.
+fn python() -> Option<PathBuf> {
+    let python = Path::new(REPO).join("target/metadrive-venv/bin/python");
+    if python.exists() {
+        return Some(python);
+    }
+    assert!(
+        std::env::var_os("WOGAN_REQUIRE_METADRIVE").is_none(),
+        "MetaDrive is required (WOGAN_REQUIRE_METADRIVE is set) but {} is missing: run \
+         examples/metadrive/setup.sh",
+        python.display()
+    );
+    eprintln!(
+        "no MetaDrive venv (examples/metadrive/setup.sh makes it): the MetaDrive test is skipped"
+    );
+    None
+}
+
+/// The executor processes of this checkout still running.
+fn executors_left() -> String {
+    let script = Path::new(REPO).join(EXECUTOR);
+    let found = Command::new("pgrep")
+        .args(["-f", &script.canonicalize().unwrap().display().to_string()])
+        .output()
+        .expect("pgrep");
+    String::from_utf8_lossy(&found.stdout).into_owned()
+}
+
+/// The test records of a run file.
+fn tests_of(path: &Path) -> Vec<Value> {
+    std::fs::read_to_string(path)
+        .unwrap_or_default()
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|r| r["type"] == "test")
+        .collect()
+}
+
+#[test]
+fn metadrive_drives_roads_searches_and_leaves_no_process() {
+    let Some(python) = python() else { return };
+    let script = Path::new(REPO)
+        .join(EXECUTOR)
+        .canonicalize()
+        .unwrap()
+        .display()
+        .to_string();
+    let command = format!("cmd:{} {script} --policy idm", python.display());
+
+    // 1. The protocol from the executor's end: a straight road passes; a U-turn tighter than the
+    // car can follow at 70 km/h leaves the lane, over the road's outer edge.
+    let mut executor = Command::new(&python)
+        .args([&script, "--policy", "idm"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lines = [
+        r#"{"type":"hello","protocol":"wogan-executor","version":2,"units":"metres, seconds","map_size_m":200.0,"oob_tolerance":0.85,"speed_limit_kmh":70.0}"#,
+        r#"{"type":"road","id":1,"road_points":[[100.0,10.0],[100.0,25.0],[100.0,40.0],[100.0,55.0],[100.0,70.0],[100.0,85.0]]}"#,
+        r#"{"type":"road","id":2,"road_points":[[100.0,10.0],[100.0,25.0],[90.0,35.0],[75.0,35.0],[65.0,25.0],[65.0,10.0]]}"#,
+        r#"{"type":"bye"}"#,
+    ];
+    let mut stdin = executor.stdin.take().unwrap();
+    for line in lines {
+        writeln!(stdin, "{line}").unwrap();
+    }
+    drop(stdin);
+    let done = watchdog(&executor, Duration::from_secs(300));
+    let mut stdout = String::new();
+    BufReader::new(executor.stdout.take().unwrap())
+        .read_to_string(&mut stdout)
+        .unwrap();
+    assert!(executor.wait().unwrap().success());
+    done.store(true, Ordering::SeqCst);
+    let answers: Vec<Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("only protocol lines on stdout"))
+        .collect();
+    assert_eq!(answers.len(), 2, "{stdout}");
+    assert_eq!(
+        (&answers[0]["id"], &answers[0]["outcome"]),
+        (&Value::from(1), &Value::from("PASS")),
+        "{stdout}"
+    );
+    assert!(answers[0]["max_bolp"].as_f64().unwrap() < 0.85);
+    assert_eq!(
+        (
+            &answers[1]["id"],
+            &answers[1]["outcome"],
+            &answers[1]["oob_side"]
+        ),
+        (&Value::from(2), &Value::from("FAIL"), &Value::from("right")),
+        "{stdout}"
+    );
+    assert!(answers[1]["max_bolp"].as_f64().unwrap() > 0.85);
+    assert_eq!(executors_left(), "", "the piped executor ended");
+
+    // 2. A search with two executors: every test answered by MetaDrive, none left running.
+    let dir = scratch_dir("metadrive");
+    let out = dir.join("run.jsonl");
+    let ran = wogan(
+        &[
+            "run",
+            "--max-tests",
+            "20",
+            "--seed",
+            "1",
+            "--jobs",
+            "2",
+            "--quiet",
+            "--executor",
+            &command,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(
+        ran.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let tests = tests_of(&out);
+    assert_eq!(tests.len(), 20);
+    for test in &tests {
+        assert!(
+            test["outcome"] == "PASS" || test["outcome"] == "FAIL",
+            "every test answered: {test}"
+        );
+        assert!(test["sim_time_s"].as_f64().unwrap() > 0.0, "{test}");
+    }
+    assert_eq!(executors_left(), "", "after a run");
+
+    // 3. Ctrl-C in the middle of a search: exit 130, the summary says so, no executor left.
+    let out = dir.join("interrupted.jsonl");
+    let mut child = spawn(&[
+        "run",
+        "--max-tests",
+        "500",
+        "--seed",
+        "2",
+        "--jobs",
+        "2",
+        "--executor",
+        &command,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let done = watchdog(&child, Duration::from_secs(300));
+    let mut waited = 0;
+    while tests_of(&out).len() < 3 {
+        std::thread::sleep(Duration::from_millis(50));
+        waited += 1;
+        assert!(waited < 4800, "no third test");
+    }
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let mut stderr = String::new();
+    BufReader::new(child.stderr.take().unwrap())
+        .read_to_string(&mut stderr)
+        .unwrap();
+    let status = child.wait().unwrap();
+    done.store(true, Ordering::SeqCst);
+    assert_eq!(status.code(), Some(130), "{stderr}");
+    let last = std::fs::read_to_string(&out).unwrap();
+    let summary: Value = serde_json::from_str(last.lines().last().unwrap()).unwrap();
+    assert_eq!(summary["interrupted"], true);
+    assert_eq!(executors_left(), "", "after Ctrl-C");
+}
