@@ -594,6 +594,70 @@ def sbst_preset_section():
 
 
 # ---------------------------------------------------------------------------------------------
+# A real simulator (issue 59): searches against MetaDrive through examples/metadrive/'s executor
+# (scripts/metadrive_runs.sh), per policy. The section lists what is on the machine.
+METADRIVE_ALGORITHMS = [("random", "random search"), ("wogan", "the paper's WOGAN"),
+                        ("preset-sbst", "`--preset sbst`")]
+METADRIVE_COMPARED = ("failures per run", "distinct failures per run", "diversity")
+
+
+def tests_per_wall_minute(paths):
+    """Mean over runs of executed tests per wall minute (the run's own summary)."""
+    rates = []
+    for path in paths:
+        summary = read_jsonl(path)[-1]
+        if summary.get("type") == "summary" and summary.get("wall_s"):
+            rates.append(60.0 * summary["executed"] / summary["wall_s"])
+    return statistics.mean(rates) if rates else None
+
+
+def metadrive_section():
+    out()
+    out("## A real simulator: MetaDrive")
+    out()
+    out("Searches whose every road is driven in MetaDrive 0.4.3 (Bullet physics, headless) by "
+        "`examples/metadrive/executor.py` (`wogan run --executor`), under the competition's "
+        "budgets (`--generation-budget 1h --execution-budget 2h`), at wogan's default conditions "
+        "(0.85 tolerance, 70 km/h): `scripts/metadrive_runs.sh POLICY SEEDS 1h 2h`. Figures are "
+        "`wogan report`'s, means per run; tests per wall minute from each run's summary (the "
+        "machine's load at the time counts).")
+    policies = sorted({os.path.basename(p).split(".")[0] for p in glob.glob("target/metadrive/*.jsonl")})
+    if not policies:
+        out()
+        out("No runs on this machine.")
+    for policy in policies:
+        groups = [(name, runs_of(f"target/metadrive/{policy}.{tag}")) for tag, name in METADRIVE_ALGORITHMS]
+        out()
+        out(f"### `--policy {policy}`")
+        out()
+        out("| search | runs | tests | failures | distinct failures | diversity | tests per wall minute |")
+        out("|---|---|---|---|---|---|---|")
+        for name, paths in groups:
+            if not paths:
+                out(f"| {name} | 0 | – | – | – | – | – |")
+                continue
+            figures = group_means(paths)
+            cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
+                     for key in ("tests executed", "failures", "distinct failures (", "diversity (")]
+            rate = tests_per_wall_minute(paths)
+            out(f"| {name} | {len(paths)} | " + " | ".join(cells) + f" | {num(rate) if rate else '–'} |")
+        random_runs = groups[0][1]
+        for name, paths in groups[1:]:
+            if random_runs and paths:
+                rows = compared(paths, random_runs, METADRIVE_COMPARED)
+                out()
+                out(f"{name} (A) against random search (B): " + "; ".join(
+                    f"{m} {rows.get(m, '–')}" for m in METADRIVE_COMPARED) + ".")
+        for tag, name in METADRIVE_ALGORITHMS:
+            one, two = runs_of(f"target/metadrive/{policy}.{tag}"), runs_of(f"target/metadrive/{policy}.jobs2-{tag}")
+            if one and two:
+                r1, r2 = tests_per_wall_minute(one), tests_per_wall_minute(two)
+                out()
+                out(f"`--jobs 2` ({name}, {len(two)} runs): {num(r2)} tests per wall minute against "
+                    f"{num(r1)} with one executor, {num(r2 / r1, 2)}x.")
+
+
+# ---------------------------------------------------------------------------------------------
 # The saved generator (issue 35): 50 tests chosen with the generator of a 300-test run against 50
 # random tests of the same seed, per driver (scripts/generator_figures.sh).
 def generator_section():
@@ -1051,6 +1115,7 @@ def sections(bench):
         ("sbst", sbst_section),
         ("field", field_section),
         ("sbst-preset", sbst_preset_section),
+        ("metadrive", metadrive_section),
         ("generator", generator_section),
         ("ci", ci_section),
         ("plug-points", plug_points_section),

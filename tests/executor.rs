@@ -3,12 +3,10 @@
 //! garbage, answers out of range or for another road, or floods (tests/python/faulty_executor.py; skipped, saying so,
 //! where python3 is missing), and that a file never starts an executor.
 
-use crate::common::{scratch_dir, spawn, watchdog, wogan};
+use crate::common::{scratch_dir, signal_and_wait, spawn, test_records, watchdog, wogan};
 use serde_json::Value;
-use std::io::{BufReader, Read};
 use std::path::Path;
 use std::process::Command;
-use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 fn arg(path: &Path) -> &str {
@@ -27,16 +25,6 @@ fn faulty(mode: &str, id: usize) -> Option<String> {
         env!("CARGO_MANIFEST_DIR")
     );
     Some(format!("cmd:python3 {script} {mode} {id}"))
-}
-
-/// The test records of a run file.
-fn tests_of(path: &Path) -> Vec<Value> {
-    std::fs::read_to_string(path)
-        .unwrap_or_default()
-        .lines()
-        .map(|l| serde_json::from_str::<Value>(l).expect("JSON"))
-        .filter(|r| r["type"] == "test")
-        .collect()
 }
 
 /// The run file's summary.
@@ -76,7 +64,7 @@ fn wogan_simulate_as_the_executor_drives_as_wogan_does() {
             t["sim_time_s"].clone(),
         )
     };
-    let (a, b) = (tests_of(&own), tests_of(&outside));
+    let (a, b) = (test_records(&own), test_records(&outside));
     assert_eq!(a.len(), 30);
     assert_eq!(
         a.iter().map(key).collect::<Vec<_>>(),
@@ -119,7 +107,7 @@ fn a_faulty_executor_fails_one_road_and_is_restarted_for_the_next() {
             "",
         );
         assert_eq!(ran.status.code(), Some(0), "{mode}: {}", String::from_utf8_lossy(&ran.stderr));
-        let tests = tests_of(&out);
+        let tests = test_records(&out);
         assert_eq!(tests.len(), 12, "{mode}: the run goes on");
         let bad = if matches!(mode, "flood" | "late-second") { 5 } else { 4 };
         for test in &tests {
@@ -165,7 +153,7 @@ fn an_executor_that_always_fails_stops_the_run_with_what_was_done_written() {
         stderr.contains("the executor failed 3 roads in a row"),
         "{stderr}"
     );
-    let tests = tests_of(&out);
+    let tests = test_records(&out);
     assert_eq!(tests.len(), 3);
     assert!(tests.iter().all(|t| t["outcome"] == "ERROR"));
     let summary = summary_of(&out);
@@ -200,21 +188,12 @@ fn sigterm_ends_a_run_whose_executor_hangs_and_leaves_no_process() {
     let done = watchdog(&child, Duration::from_secs(120));
     // The first test is written when its road is answered; the second road hangs.
     let mut waited = 0;
-    while tests_of(&out).is_empty() {
+    while test_records(&out).is_empty() {
         std::thread::sleep(Duration::from_millis(50));
         waited += 1;
         assert!(waited < 1200, "no first test");
     }
-    Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap();
-    let mut stderr = String::new();
-    BufReader::new(child.stderr.take().unwrap())
-        .read_to_string(&mut stderr)
-        .unwrap();
-    let status = child.wait().unwrap();
-    done.store(true, Ordering::SeqCst);
+    let (status, stderr) = signal_and_wait(&mut child, "-TERM", &done);
     assert_eq!(status.code(), Some(130), "{stderr}");
     assert_eq!(summary_of(&out)["interrupted"], true);
     let left = Command::new("pgrep").args(["-f", &marker]).output();

@@ -7,7 +7,7 @@
 //! venv the test says so and checks nothing, unless WOGAN_REQUIRE_METADRIVE is set (CI sets it, after
 //! running setup.sh), when it fails.
 
-use crate::common::{scratch_dir, spawn, watchdog, wogan};
+use crate::common::{scratch_dir, signal_and_wait, spawn, test_records, watchdog, wogan};
 use serde_json::Value;
 use std::io::{BufReader, Read, Write};
 use std::path::{Path, PathBuf};
@@ -46,16 +46,6 @@ fn executors_left() -> String {
         .output()
         .expect("pgrep");
     String::from_utf8_lossy(&found.stdout).into_owned()
-}
-
-/// The test records of a run file.
-fn tests_of(path: &Path) -> Vec<Value> {
-    std::fs::read_to_string(path)
-        .unwrap_or_default()
-        .lines()
-        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
-        .filter(|r| r["type"] == "test")
-        .collect()
 }
 
 #[test]
@@ -145,7 +135,7 @@ fn metadrive_drives_roads_searches_and_leaves_no_process() {
         "{}",
         String::from_utf8_lossy(&ran.stderr)
     );
-    let tests = tests_of(&out);
+    let tests = test_records(&out);
     assert_eq!(tests.len(), 20);
     for test in &tests {
         assert!(
@@ -173,21 +163,12 @@ fn metadrive_drives_roads_searches_and_leaves_no_process() {
     ]);
     let done = watchdog(&child, Duration::from_secs(300));
     let mut waited = 0;
-    while tests_of(&out).len() < 3 {
+    while test_records(&out).len() < 3 {
         std::thread::sleep(Duration::from_millis(50));
         waited += 1;
         assert!(waited < 4800, "no third test");
     }
-    Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    let mut stderr = String::new();
-    BufReader::new(child.stderr.take().unwrap())
-        .read_to_string(&mut stderr)
-        .unwrap();
-    let status = child.wait().unwrap();
-    done.store(true, Ordering::SeqCst);
+    let (status, stderr) = signal_and_wait(&mut child, "-INT", &done);
     assert_eq!(status.code(), Some(130), "{stderr}");
     let last = std::fs::read_to_string(&out).unwrap();
     let summary: Value = serde_json::from_str(last.lines().last().unwrap()).unwrap();

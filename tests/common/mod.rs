@@ -87,6 +87,38 @@ pub fn watchdog(child: &Child, limit: Duration) -> Arc<AtomicBool> {
     done
 }
 
+/// Sends `signal` (`-TERM`, `-INT`) to `child` and waits for it: its exit status and its stderr.
+/// `done` (its watchdog's flag) is set once it has ended.
+pub fn signal_and_wait(
+    child: &mut Child,
+    signal: &str,
+    done: &AtomicBool,
+) -> (std::process::ExitStatus, String) {
+    Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .expect("kill");
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(
+        &mut std::io::BufReader::new(child.stderr.take().expect("piped stderr")),
+        &mut stderr,
+    )
+    .expect("stderr");
+    let status = child.wait().expect("the child ends");
+    done.store(true, Ordering::SeqCst);
+    (status, stderr)
+}
+
+/// The test records of a run file (none when it does not exist yet).
+pub fn test_records(path: &std::path::Path) -> Vec<Value> {
+    std::fs::read_to_string(path)
+        .unwrap_or_default()
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|r| r["type"] == "test")
+        .collect()
+}
+
 /// Starts `wogan ARGS` with every standard stream piped.
 pub fn spawn(args: &[&str]) -> Child {
     Command::new(env!("CARGO_BIN_EXE_wogan"))
