@@ -447,6 +447,18 @@ def page_commit():
     return done.stdout.strip() or "?"
 
 
+def behind_on(name, rows):
+    """"NAME on MEASURE (A / B, p P)" for each measure of `rows` ("A / B, p P", higher is
+    better for every compared measure) where A is below B at p < 0.05."""
+    found = []
+    for measure, text in rows.items():
+        match = re.fullmatch(r"([\d.,]+) / ([\d.,]+), p (< )?([\d.]+)", text)
+        if match and float(match[1].replace(",", "")) < float(match[2].replace(",", "")) \
+                and float(match[4]) < 0.05:
+            found.append(f"{name.replace(' ' + KEPT, '')} on {measure} ({text})")
+    return found
+
+
 def runs_cell(paths):
     """How many runs a row is of, and how many of them the tool's own crash ended."""
     crashed = sum(1 for p in paths if os.path.isdir(p) and crashes.classify(p))
@@ -523,18 +535,27 @@ def field_section():
         out()
         out("| B | " + " | ".join(f"{m}: A / B, p" for m in FIELD_COMPARED) + " |")
         out("|---|" + "---|" * len(FIELD_COMPARED))
+        behind = []
         for name, paths in groups[1:]:
             if not paths:
                 row = kept_row(page, 1, name, 0)
                 kept |= row is not None
                 if row:
                     out(row)
+                    cells = [c.strip() for c in row.strip().strip("|").split("|")][1:]
+                    behind += behind_on(name, dict(zip(FIELD_COMPARED, cells)))
                 continue
             rows = compared(preset, paths, FIELD_COMPARED)
             out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
+            behind += behind_on(name, rows)
         if kept:
             out()
             out(kept_note(page_commit()))
+        out()
+        if behind:
+            out("Where `--preset sbst` is behind (A below B, p < 0.05): " + "; ".join(behind) + ".")
+        else:
+            out("`--preset sbst` is behind no row on these figures (A below B, p < 0.05).")
 
 
 # ---------------------------------------------------------------------------------------------
