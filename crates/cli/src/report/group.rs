@@ -159,7 +159,12 @@ pub fn distinct_failures(tests: &[TestRecord]) -> Option<usize> {
         .iter()
         .filter(|t| t.failed())
         .map(|t| {
-            let exit = t.execution.result.oob?;
+            // An executor reports the side of an exit, not its place (`null`, read as NaN).
+            let exit = t
+                .execution
+                .result
+                .oob
+                .filter(|e| e.x.is_finite() && e.y.is_finite())?;
             // A road that cannot be built cannot have been driven: there is nothing to count.
             let road = Road::new(&t.execution.road_points).ok()?;
             ExitProfile::of(&road.interpolated, [exit.x, exit.y])

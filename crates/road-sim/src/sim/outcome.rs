@@ -128,11 +128,14 @@ impl LaneSide {
 /// competition's first `is_oob` record).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LaneExit {
-    /// Simulated time, seconds.
+    /// Simulated time, seconds (NaN, written `null`, when an executor reports only the side).
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub t_s: f64,
-    /// Car centre, metres.
+    /// Car centre, metres (NaN, written `null`, when an executor reports only the side).
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub x: f64,
-    /// Car centre, metres.
+    /// Car centre, metres (NaN, written `null`, when an executor reports only the side).
+    #[serde(deserialize_with = "crate::json_float::nan_for_null")]
     pub y: f64,
     /// The edge the car crossed: the one its centre is nearer to (or beyond).
     pub side: LaneSide,
@@ -306,5 +309,14 @@ mod tests {
         assert_eq!(json["reason"], "out_of_lane");
         let back: SimResult = serde_json::from_value(json).unwrap();
         assert_eq!(back, result);
+    }
+
+    #[test]
+    fn an_exit_without_a_place_reads_back() {
+        // What a run driven by an executor writes: the side, and no place (NaN as null).
+        let text = r#"{"t_s":null,"x":null,"y":null,"side":"left","sbst_side":null}"#;
+        let exit: LaneExit = serde_json::from_str(text).unwrap();
+        assert_eq!(exit.side, LaneSide::Left);
+        assert!(exit.t_s.is_nan() && exit.x.is_nan() && exit.y.is_nan());
     }
 }
