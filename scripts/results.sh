@@ -670,12 +670,16 @@ def metadrive_section():
                 out(f"{name} (A) against random search (B): " + "; ".join(
                     f"{m} {rows.get(m, '–')}" for m in METADRIVE_COMPARED) + ".")
         for tag, name in METADRIVE_ALGORITHMS:
-            one, two = runs_of(f"target/metadrive/{policy}.{tag}"), runs_of(f"target/metadrive/{policy}.jobs2-{tag}")
+            two = runs_of(f"target/metadrive/{policy}.jobs2-{tag}")
+            # The same seeds with one executor.
+            seeds = {p.rsplit(".", 2)[-2] for p in two}
+            one = [p for p in runs_of(f"target/metadrive/{policy}.{tag}") if p.rsplit(".", 2)[-2] in seeds]
             if one and two:
                 r1, r2 = tests_per_wall_minute(one), tests_per_wall_minute(two)
                 out()
                 out(f"`--jobs 2` ({name}, {len(two)} runs): {num(r2)} tests per wall minute against "
-                    f"{num(r1)} with one executor, {num(r2 / r1, 2)}x.")
+                    f"{num(r1)} with one executor on the same seeds, {num(r2 / r1, 2)}x (two "
+                    "MetaDrive executors on a 2-core machine).")
 
 
 # ---------------------------------------------------------------------------------------------
