@@ -38,11 +38,16 @@ fn python() -> Option<PathBuf> {
     None
 }
 
+/// The executor script's full path: how the test starts it, and so how it finds its processes.
+fn executor_script() -> String {
+    let script = Path::new(REPO).join(EXECUTOR);
+    script.canonicalize().unwrap().display().to_string()
+}
+
 /// The executor processes of this checkout still running.
 fn executors_left() -> String {
-    let script = Path::new(REPO).join(EXECUTOR);
     let found = Command::new("pgrep")
-        .args(["-f", &script.canonicalize().unwrap().display().to_string()])
+        .args(["-f", &executor_script()])
         .output()
         .expect("pgrep");
     String::from_utf8_lossy(&found.stdout).into_owned()
@@ -51,12 +56,7 @@ fn executors_left() -> String {
 #[test]
 fn metadrive_drives_roads_searches_and_leaves_no_process() {
     let Some(python) = python() else { return };
-    let script = Path::new(REPO)
-        .join(EXECUTOR)
-        .canonicalize()
-        .unwrap()
-        .display()
-        .to_string();
+    let script = executor_script();
     let command = format!("cmd:{} {script} --policy idm", python.display());
 
     // 1. The protocol from the executor's end: a straight road passes; a U-turn tighter than the

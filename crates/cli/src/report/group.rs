@@ -159,15 +159,11 @@ pub fn distinct_failures(tests: &[TestRecord]) -> Option<usize> {
         .iter()
         .filter(|t| t.failed())
         .map(|t| {
-            // An executor reports the side of an exit, not its place (`null`, read as NaN).
-            let exit = t
-                .execution
-                .result
-                .oob
-                .filter(|e| e.x.is_finite() && e.y.is_finite())?;
+            // An executor reports the side of an exit, not its place: no count then.
+            let place = t.execution.result.oob?.place()?;
             // A road that cannot be built cannot have been driven: there is nothing to count.
             let road = Road::new(&t.execution.road_points).ok()?;
-            ExitProfile::of(&road.interpolated, [exit.x, exit.y])
+            ExitProfile::of(&road.interpolated, place)
         })
         .collect::<Option<Vec<ExitProfile>>>()?;
     Some(distinct(&profiles, DELTA_RAD).len())

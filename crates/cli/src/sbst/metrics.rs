@@ -208,10 +208,7 @@ pub fn oob_tests(run: &RunFile) -> Result<Vec<SbstTest>, OobSummaryError> {
             is_valid: true,
             test_outcome: Some(outcome_name(result.outcome).to_owned()),
             road_points: t.execution.road_points.clone(),
-            oob_point: result
-                .oob
-                .filter(|exit| exit.x.is_finite() && exit.y.is_finite())
-                .map(|exit| [exit.x, exit.y]),
+            oob_point: result.oob.and_then(|exit| exit.place()),
         });
     }
     tests.sort_by_key(|t| t.id);

@@ -145,6 +145,14 @@ pub struct LaneExit {
     pub sbst_side: Option<SbstSide>,
 }
 
+impl LaneExit {
+    /// Where the car left, `[x, y]` metres; `None` when the exit has no place (an executor's
+    /// answer gives only the side).
+    pub fn place(&self) -> Option<[f64; 2]> {
+        (self.x.is_finite() && self.y.is_finite()).then_some([self.x, self.y])
+    }
+}
+
 /// Result of one drive.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SimResult {
@@ -318,5 +326,12 @@ mod tests {
         let exit: LaneExit = serde_json::from_str(text).unwrap();
         assert_eq!(exit.side, LaneSide::Left);
         assert!(exit.t_s.is_nan() && exit.x.is_nan() && exit.y.is_nan());
+        assert_eq!(exit.place(), None);
+        let placed = LaneExit {
+            x: 1.0,
+            y: 2.0,
+            ..exit
+        };
+        assert_eq!(placed.place(), Some([1.0, 2.0]));
     }
 }
