@@ -85,8 +85,9 @@ def main():
                     chosen_set = set(chosen) | set(random_tests)
                     figures[f"random + {label}"] = distinct(
                         args.wogan, run, [t for t in tests if t in chosen_set], scratch)
-            counts = {label: (sum(outcome(t) != "INVALID" for t in chosen),
-                              sum(outcome(t) == "FAIL" for t in chosen))
+            outcomes = {t: outcome(t) for t in tests}  # each test file read once
+            counts = {label: (sum(outcomes[t] != "INVALID" for t in chosen),
+                              sum(outcomes[t] == "FAIL" for t in chosen))
                       for label, chosen in by.items()}
             per_run.append((figures, counts))
     n = len(per_run)
