@@ -270,56 +270,77 @@ fn the_sbst_pipeline_generator_drives_wogans_search_through_the_pipelines_execut
 
 #[test]
 fn a_run_an_executor_drove_reads_back_in_a_report() {
-    // An executor says on which side the car left, not where: the record's exit has no place
-    // (`null`s), and the report still reads the test, counts its failure, and has no distinct
-    // failures to count (it needs the place).
-    let Some(executor) = faulty("fail", 3) else {
-        return;
-    };
-    let dir = scratch_dir("executor-report");
-    let out = dir.join("run.jsonl");
-    let ran = wogan(
-        &[
-            "run",
-            "--max-tests",
-            "6",
-            "--seed",
-            "3",
-            "--quiet",
-            "--executor",
-            &executor,
-            "--out",
-            arg(&out),
-        ],
-        "",
-    );
-    assert_eq!(
-        ran.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&ran.stderr)
-    );
-    let failed: Vec<Value> = test_records(&out)
-        .into_iter()
-        .filter(|t| t["outcome"] == "FAIL")
-        .collect();
-    assert_eq!(failed.len(), 1);
-    assert_eq!(failed[0]["oob"]["side"], "left");
-    assert!(failed[0]["oob"]["x"].is_null());
-    let table = wogan(&["report", arg(&out), "--table"], "");
-    let stderr = String::from_utf8_lossy(&table.stderr);
-    assert_eq!(
-        table.status.code(),
-        Some(0),
-        "every record reads back: {stderr}"
-    );
-    let stdout = String::from_utf8_lossy(&table.stdout);
-    let row = stdout
-        .lines()
-        .find(|l| l.starts_with("| wogan"))
-        .unwrap_or_default();
-    assert!(
-        row.contains("| 1 | 1 (1) | – |"),
-        "one run, one failing road, no distinct count: {stdout}"
-    );
+    // An executor says on which side the car left, and where when it can (`oob_point`). Without
+    // the place the record's exit has `null`s, and the report still reads the test, counts its
+    // failure, and has no distinct failures to count; with it the exit is placed and counted.
+    for (mode, placed) in [("fail", false), ("fail-placed", true)] {
+        let Some(executor) = faulty(mode, 3) else {
+            return;
+        };
+        let dir = scratch_dir(&format!("executor-report-{mode}"));
+        let out = dir.join("run.jsonl");
+        let ran = wogan(
+            &[
+                "run",
+                "--max-tests",
+                "6",
+                "--seed",
+                "3",
+                "--quiet",
+                "--executor",
+                &executor,
+                "--out",
+                arg(&out),
+            ],
+            "",
+        );
+        assert_eq!(
+            ran.status.code(),
+            Some(0),
+            "{mode}: {}",
+            String::from_utf8_lossy(&ran.stderr)
+        );
+        let failed: Vec<Value> = test_records(&out)
+            .into_iter()
+            .filter(|t| t["outcome"] == "FAIL")
+            .collect();
+        assert_eq!(failed.len(), 1, "{mode}");
+        let exit = &failed[0]["oob"];
+        assert_eq!(exit["side"], "left", "{mode}");
+        if placed {
+            // The third road point, on the centre line: the competition's analysis calls it LEFT.
+            let third = &failed[0]["road_points"][2];
+            assert_eq!(
+                (&exit["x"], &exit["y"]),
+                (&third[0], &third[1]),
+                "{mode}: {exit}"
+            );
+            assert_eq!(
+                (&exit["t_s"], &exit["sbst_side"]),
+                (&Value::from(1.5), &Value::from("LEFT"))
+            );
+        } else {
+            assert!(
+                exit["x"].is_null() && exit["sbst_side"].is_null(),
+                "{mode}: {exit}"
+            );
+        }
+        let table = wogan(&["report", arg(&out), "--table"], "");
+        let stderr = String::from_utf8_lossy(&table.stderr);
+        assert_eq!(
+            table.status.code(),
+            Some(0),
+            "{mode}: every record reads back: {stderr}"
+        );
+        let stdout = String::from_utf8_lossy(&table.stdout);
+        let row = stdout
+            .lines()
+            .find(|l| l.starts_with("| wogan"))
+            .unwrap_or_default();
+        let distinct = if placed { "1 (1)" } else { "–" };
+        assert!(
+            row.contains(&format!("| 1 | 1 (1) | {distinct} |")),
+            "{mode}: one run, one failing road, distinct {distinct}: {stdout}"
+        );
+    }
 }

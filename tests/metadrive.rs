@@ -107,6 +107,32 @@ fn metadrive_drives_roads_searches_and_leaves_no_process() {
         "{stdout}"
     );
     assert!(answers[1]["max_bolp"].as_f64().unwrap() > 0.85);
+    // Where it left: the car centre, in the road's frame, right of the right lane's centre (over
+    // 2 m from the road's points' polyline) and within a car's length of the road.
+    let point: Vec<f64> = serde_json::from_value(answers[1]["oob_point"].clone()).expect("[x, y]");
+    let u_turn = [
+        [100.0, 10.0],
+        [100.0, 25.0],
+        [90.0, 35.0],
+        [75.0, 35.0],
+        [65.0, 25.0],
+        [65.0, 10.0],
+    ];
+    let off_road_m = u_turn
+        .windows(2)
+        .map(|s| {
+            let (d, p) = (
+                [s[1][0] - s[0][0], s[1][1] - s[0][1]],
+                [point[0] - s[0][0], point[1] - s[0][1]],
+            );
+            let t = ((p[0] * d[0] + p[1] * d[1]) / (d[0] * d[0] + d[1] * d[1])).clamp(0.0, 1.0);
+            (p[0] - t * d[0]).hypot(p[1] - t * d[1])
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        (2.0..8.0).contains(&off_road_m),
+        "exit at {point:?}, {off_road_m} m off the road: {stdout}"
+    );
     assert_eq!(executors_left(), "", "the piped executor ended");
 
     // 2. A search with two executors: every test answered by MetaDrive, none left running.
@@ -143,6 +169,12 @@ fn metadrive_drives_roads_searches_and_leaves_no_process() {
             "every test answered: {test}"
         );
         assert!(test["sim_time_s"].as_f64().unwrap() > 0.0, "{test}");
+        if test["reason"] == "out_of_lane" {
+            assert!(
+                test["oob"]["x"].is_f64() && test["oob"]["y"].is_f64(),
+                "{test}"
+            );
+        }
     }
     assert_eq!(executors_left(), "", "after a run");
 

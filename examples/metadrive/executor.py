@@ -49,7 +49,8 @@ The measures, sampled at every physics step (50 Hz):
   20 s + length / (2 m/s). MetaDrive's own ends (arrival, out of road) are ignored.
 - `sim_time_s`: simulated seconds until the end.
 
-Answers carry `id`, `max_bolp`, `outcome`, `sim_time_s`, `oob_side` (FAIL out of lane only),
+Answers carry `id`, `max_bolp`, `outcome`, `sim_time_s`, `oob_side` and `oob_point` (FAIL out of
+lane only: the side, and the car centre in wogan's frame at the first sample past the tolerance),
 `error` (ERROR only: kept in the test record) and, for people reading them (wogan ignores them),
 `reason`, `policy` and `wall_s`.
 
@@ -333,6 +334,7 @@ class Verdict:
     reason: Optional[str]  # None for PASS; out_of_lane, not_moving, timeout, sim_time_limit
     t_s: float
     side: Optional[str] = None  # "left" or "right" for out_of_lane
+    point: Optional[tuple] = None  # the car centre (wogan's frame) at the exit, for out_of_lane
 
 
 @dataclass
@@ -401,7 +403,8 @@ class LaneMonitor:
             # wogan's side: left when nearer the lane's left edge (the centre line) than its right.
             dist_left, dist_right = -lateral, lateral + ROAD_WIDTH_M / 2.0
             side = "left" if dist_left < dist_right else "right"
-            self.verdict = Verdict("FAIL", "out_of_lane", t, side)
+            point = (round(float(center[0]), 3), round(float(center[1]), 3))
+            self.verdict = Verdict("FAIL", "out_of_lane", t, side, point)
             return self.verdict
         end = self.road.centre[-1]
         near_end_along = segment + END_SEGMENTS >= len(self.road.centre)
@@ -441,15 +444,48 @@ def make_idm_policy(speed_limit_kmh: float) -> type:
     return WoganIDMPolicy
 
 
+# The expert's sensors (metadrive/examples/ppo_expert/numpy_expert.py `expert`).
+EXPERT_SENSORS = dict(
+    lidar=dict(num_lasers=240, distance=50, num_others=4, gaussian_noise=0.0, dropout_prob=0.0),
+    side_detector=dict(num_lasers=0, distance=50, gaussian_noise=0.0, dropout_prob=0.0),
+    lane_line_detector=dict(num_lasers=0, distance=20, gaussian_noise=0.0, dropout_prob=0.0),
+)
+
+
 def make_expert_policy(speed_limit_kmh: float) -> type:
-    """MetaDrive's PPO expert, its mean action, no throttle above the speed limit."""
-    from metadrive.examples.ppo_expert.numpy_expert import expert
+    """MetaDrive's PPO expert, its mean action, no throttle above the speed limit.
+
+    The forward pass and observation are `numpy_expert.expert(deterministic=True)`'s, with two
+    costs of that function taken out (each about a quarter of a drive's wall time): it reads its
+    weights from the compressed `.npz` at every call (a lazy `NpzFile`), and it swaps the car's
+    settings to the expert's and back at every call (deep copies). Here the weights are read once,
+    and the car is given the expert's observation settings once, at the start (`_config`)."""
+    from metadrive.engine.engine_utils import get_global_config
+    from metadrive.examples.ppo_expert import numpy_expert
+    from metadrive.obs.state_obs import LidarStateObservation
     from metadrive.policy.base_policy import BasePolicy
+
+    with np.load(numpy_expert.ckpt_path) as archive:
+        weights = {name: archive[name] for name in archive.files}
+    layers = [(weights[f"default_policy/{name}/kernel"], weights[f"default_policy/{name}/bias"])
+              for name in ("fc_1", "fc_2", "fc_out")]
+    observation: list = []  # built at the first step, when MetaDrive's engine exists
 
     class WoganExpertPolicy(BasePolicy):
         def act(self, agent_id: Any = None) -> list:
             vehicle = self.control_object
-            steering, throttle = (float(v) for v in expert(vehicle, deterministic=True))
+            if not observation:
+                config = get_global_config().copy()
+                config["vehicle_config"].update(dict(EXPERT_SENSORS, random_agent_model=False))
+                observation.append(LidarStateObservation(config))
+                assert observation[0].observation_space.shape[0] == 275, "not the expert's observation"
+            x = numpy_expert.obs_correction(observation[0].observe(vehicle)).reshape(1, -1)
+            for i, (kernel, bias) in enumerate(layers):
+                x = np.matmul(x, kernel) + bias
+                if i < len(layers) - 1:
+                    x = np.tanh(x)
+            mean = np.split(x.reshape(-1), 2)[0]
+            steering, throttle = (float(v) for v in mean)
             if vehicle.speed_km_h > speed_limit_kmh:
                 throttle = min(throttle, 0.0)
             action = [steering, throttle]
@@ -558,6 +594,7 @@ class DriveResult:
     max_bolp: float
     sim_time_s: float
     side: Optional[str]
+    point: Optional[tuple] = None
 
 
 class MetaDriveDriver:
@@ -585,10 +622,7 @@ class MetaDriveDriver:
         else:
             policy = make_expert_policy(self.speed_limit_kmh)
             # The expert's observation (numpy_expert.py expert_obs_cfg) with its navigation part.
-            vehicle_config.update(navigation_module=make_expert_navigation(),
-                                  lidar=dict(num_lasers=240, distance=50, num_others=4),
-                                  side_detector=dict(num_lasers=0, distance=50),
-                                  lane_line_detector=dict(num_lasers=0, distance=20))
+            vehicle_config.update(navigation_module=make_expert_navigation(), **EXPERT_SENSORS)
         return dict(
             data_directory=data_directory, num_scenarios=1, start_scenario_index=0,
             agent_policy=policy, use_render=False, image_observation=False,
@@ -672,7 +706,7 @@ class MetaDriveDriver:
         finally:
             self._on_sample = None
         v = monitor.verdict
-        return DriveResult(v.outcome, v.reason, monitor.max_bolp, v.t_s, v.side)
+        return DriveResult(v.outcome, v.reason, monitor.max_bolp, v.t_s, v.side, v.point)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -742,6 +776,8 @@ class Executor:
                         "sim_time_s": round(result.sim_time_s, 4)}
         if result.side is not None:
             answer["oob_side"] = result.side
+        if result.point is not None:
+            answer["oob_point"] = list(result.point)
         if result.reason is not None:
             answer["reason"] = result.reason
         answer["policy"] = self.policy

@@ -8,7 +8,8 @@ Every road is answered, naming it by its `id`, as passed (max BOLP 0.01, 2 simul
 answer), `garbage` (a line that is not JSON), `range` (max_bolp 7), `flood` (two lines), `late-second` (a second answer to it written only once the next road has been
 read), `wrong-id` (the answer names another road), `error` (an honest ERROR with the reason in
 `error`, as an executor whose simulator refused the road answers), or
-`fail` (an honest failure: max BOLP 0.9). MODE `always-crash` exits at every road. Standard
+`fail` (an honest failure: max BOLP 0.9, over the left edge), `fail-placed` (the same, and where:
+its third road point). MODE `always-crash` exits at every road. Standard
 library only.
 """
 import json
@@ -51,4 +52,7 @@ for line in sys.stdin:
                       "error": f"the simulator refused road {message['id']}"}
         if mode == "fail":
             answer = {"id": message["id"], "max_bolp": 0.9, "oob_side": "left", "sim_time_s": 1.5}
+        if mode == "fail-placed":
+            answer = {"id": message["id"], "max_bolp": 0.9, "oob_side": "left", "sim_time_s": 1.5,
+                      "oob_point": message["road_points"][2]}
     print(json.dumps(answer), flush=True)

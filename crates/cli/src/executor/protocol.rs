@@ -4,8 +4,8 @@
 //! `id` (required: the road it answers) and `max_bolp` (required, in `[0, 1]`), and optionally
 //! `outcome` (`PASS`, `FAIL` or `ERROR`; derived from the tolerance when absent), `sim_time_s`
 //! (simulated seconds, charged to the execution budget; 0 when absent), `oob_side` (`left` or
-//! `right`) and `error` (text: why the road could not be driven, kept in the test record of an
-//! `ERROR`). Other fields are ignored, so `wogan simulate`'s `result` lines, which echo the input's
+//! `right`), `oob_point` (`[x, y]` metres: where the car centre was when it left, with `oob_side`)
+//! and `error` (text: why the road could not be driven, kept in the test record of an `ERROR`). Other fields are ignored, so `wogan simulate`'s `result` lines, which echo the input's
 //! `id`, are answers.
 //!
 //! Version 2 added the answer's `id`: without it, a second line for one road could be taken for the
@@ -62,6 +62,8 @@ pub struct Answer {
     pub sim_time_s: f64,
     /// Which edge of its lane the car left over, when the executor says.
     pub oob_side: Option<road_sim::LaneSide>,
+    /// Where the car centre was when it left its lane, metres, when the executor says.
+    pub oob_point: Option<Point>,
     /// Why the road could not be driven, when the executor says (kept for an `ERROR`).
     pub error: Option<String>,
 }
@@ -162,6 +164,28 @@ pub fn parse_answer(
             ))
         }
     };
+    let oob_point = match object.get("oob_point") {
+        None | Some(Value::Null) => None,
+        Some(value) => {
+            let point = value
+                .as_array()
+                .filter(|xy| xy.len() == 2)
+                .and_then(|xy| Some([xy[0].as_f64()?, xy[1].as_f64()?]))
+                .filter(|p| p.iter().all(|v| v.is_finite()));
+            match point {
+                Some(_) if oob_side.is_none() => {
+                    return Err(field("oob_point", "given without oob_side"))
+                }
+                Some(p) => Some(p),
+                None => {
+                    return Err(field(
+                        "oob_point",
+                        format!("{value} is not [x, y] in finite metres"),
+                    ))
+                }
+            }
+        }
+    };
     let error = match object.get("error") {
         None | Some(Value::Null) => None,
         Some(Value::String(text)) => Some(text.clone()),
@@ -172,6 +196,7 @@ pub fn parse_answer(
         outcome,
         sim_time_s,
         oob_side,
+        oob_point,
         error,
     })
 }
@@ -190,7 +215,16 @@ mod tests {
         let a = parse_answer(r#"{"id": 3, "max_bolp": 0.5, "outcome": "ERROR", "sim_time_s": 7.5, "oob_side": "right", "x": 1}"#, 3, None, 0.85).unwrap();
         assert_eq!(a.outcome, Outcome::Error);
         assert_eq!(a.oob_side, Some(road_sim::LaneSide::Right));
-        assert_eq!(a.error, None);
+        assert_eq!((a.oob_point, a.error), (None, None));
+        // Where the car left, with its side.
+        let a = parse_answer(
+            r#"{"id": 3, "max_bolp": 0.9, "oob_side": "left", "oob_point": [101.5, 40.25]}"#,
+            3,
+            None,
+            0.85,
+        )
+        .unwrap();
+        assert_eq!(a.oob_point, Some([101.5, 40.25]));
         // An ERROR's reason, in the executor's words.
         let a = parse_answer(
             r#"{"id": 3, "max_bolp": 0, "outcome": "ERROR", "error": "MetaDrive: no lane"}"#,
@@ -233,6 +267,18 @@ mod tests {
             (
                 r#"{"id": 3, "max_bolp": 0.1, "oob_side": "up"}"#,
                 "oob_side:",
+            ),
+            (
+                r#"{"id": 3, "max_bolp": 0.9, "oob_side": "left", "oob_point": [1]}"#,
+                "oob_point: [1] is not [x, y] in finite metres",
+            ),
+            (
+                r#"{"id": 3, "max_bolp": 0.9, "oob_side": "left", "oob_point": "here"}"#,
+                "oob_point:",
+            ),
+            (
+                r#"{"id": 3, "max_bolp": 0.9, "oob_point": [1, 2]}"#,
+                "oob_point: given without oob_side",
             ),
             (
                 r#"{"id": 3, "max_bolp": 0.1, "error": 7}"#,

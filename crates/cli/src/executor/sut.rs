@@ -10,6 +10,7 @@ use crate::failure_streak::FailureStreak;
 use crate::records::RoadExecution;
 use crate::road_sut::RoadSut;
 use road_sim::child_process::{ChildProcess, Fault};
+use road_sim::oob::sbst_side;
 use road_sim::road::features::RoadFeatures;
 use road_sim::{FitnessKind, LaneExit, Outcome, Road, SimConfig, SimResult};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -172,13 +173,22 @@ impl Sut for ExecutorSut<'_> {
                     &road,
                     ms,
                 );
-                // The side without a place: where the car left is the executor's to know.
-                result.oob = answer.oob_side.map(|side| LaneExit {
-                    t_s: f64::NAN,
-                    x: f64::NAN,
-                    y: f64::NAN,
-                    side,
-                    sbst_side: None,
+                // Where the car left is the executor's to know: the side, and the place when it
+                // says (the exit ends the drive, so its time is the drive's).
+                result.oob = answer.oob_side.map(|side| {
+                    let place = answer.oob_point;
+                    let [x, y] = place.unwrap_or([f64::NAN, f64::NAN]);
+                    LaneExit {
+                        t_s: if place.is_some() {
+                            answer.sim_time_s
+                        } else {
+                            f64::NAN
+                        },
+                        x,
+                        y,
+                        side,
+                        sbst_side: place.and_then(|p| sbst_side(&road_points, p)),
+                    }
                 });
                 // An executor's own ERROR keeps its reason, as wogan's own failed drives do.
                 if answer.outcome == Outcome::Error {
