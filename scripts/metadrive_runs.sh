@@ -11,7 +11,8 @@
 # sbst`; "jobs2-ALGORITHM" runs ALGORITHM with `--jobs 2` (two MetaDrive executors). The driver's
 # conditions are wogan's defaults (0.85 tolerance, 70 km/h), sent to the executor in `hello`. A run
 # whose file ends with its summary is kept (delete it to make it again). WOGAN=path uses another
-# binary (default target/release/wogan, built here).
+# binary (default target/release/wogan, built here). OUT=folder writes there instead (the
+# `--jobs 2` speed-up is measured in target/metadrive-speed/, with nothing else running).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 policy=${1:-idm}
@@ -25,7 +26,7 @@ if [ -z "${WOGAN:-}" ]; then
   cargo build --release -q -p wogan-cli
   WOGAN=target/release/wogan
 fi
-out=target/metadrive
+out=${OUT:-target/metadrive}
 mkdir -p "$out"
 for algorithm in $algorithms; do
   jobs=1 search=$algorithm

@@ -640,8 +640,9 @@ def metadrive_section():
         "`examples/metadrive/executor.py` (`wogan run --executor`), under the competition's "
         "budgets (`--generation-budget 1h --execution-budget 2h`), at wogan's default conditions "
         "(0.85 tolerance, 70 km/h): `scripts/metadrive_runs.sh POLICY SEEDS 1h 2h`. Figures are "
-        "`wogan report`'s, means per run; tests per wall minute from each run's summary (the "
-        "machine's load at the time counts).")
+        "`wogan report`'s, means per run, and each search against random search by Mann–Whitney "
+        "(`wogan report A --vs B`); tests per wall minute from each run's summary (the machine's "
+        "load at the time counts: these runs shared its 2 cores with others).")
     policies = sorted({os.path.basename(p).split(".")[0] for p in glob.glob("target/metadrive/*.jsonl")})
     if not policies:
         out()
@@ -669,17 +670,59 @@ def metadrive_section():
                 out()
                 out(f"{name} (A) against random search (B): " + "; ".join(
                     f"{m} {rows.get(m, '–')}" for m in METADRIVE_COMPARED) + ".")
+        metadrive_field(policy, groups)
+    metadrive_speedup()
+
+
+def metadrive_field(policy, groups):
+    """The SBST 2022 field on MetaDrive (scripts/peers/campaign.sh metadrive-POLICY): each tool's
+    means, and wogan's searches against it."""
+    peers = [(name, peer_runs(f"metadrive-{policy}", tool)) for tool, name in PEERS]
+    peers = [(name, paths) for name, paths in peers if paths]
+    if not peers:
+        return
+    out()
+    out(f"The SBST 2022 field on MetaDrive with `--policy {policy}`, in the competition's pipeline "
+        f"(`PEERS_HOME=... scripts/peers/campaign.sh metadrive-{policy} SEEDS TOOLS`: MetaDrive's "
+        "executor answering with the pipeline's execution data, the same budgets and conditions):")
+    out()
+    out("| tool | runs | tests | failures | distinct failures | diversity |")
+    out("|---|---|---|---|---|---|")
+    for name, paths in peers:
+        figures = group_means(paths)
+        cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
+                 for key in ("tests executed", "failures", "distinct failures (", "diversity (")]
+        out(f"| {name} | {len(paths)} | " + " | ".join(cells) + " |")
+    for ours, mine in groups[1:]:
+        if not mine:
+            continue
+        out()
+        out(f"{ours} (A, {len(mine)} runs) against each tool (B), means and Mann–Whitney p "
+            "(`wogan report A --vs B --table`):")
+        out()
+        out("| B | " + " | ".join(f"{m}: A / B, p" for m in METADRIVE_COMPARED) + " |")
+        out("|---|" + "---|" * len(METADRIVE_COMPARED))
+        for name, paths in peers:
+            rows = compared(mine, paths, METADRIVE_COMPARED)
+            out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in METADRIVE_COMPARED) + " |")
+
+
+def metadrive_speedup():
+    """`--jobs 2` against one executor on the same seeds, from runs made alone on the machine
+    (target/metadrive-speed/: `OUT=target/metadrive-speed ALGORITHMS="random jobs2-random"
+    scripts/metadrive_runs.sh idm 2 1h 2h` with nothing else running)."""
+    for policy in sorted({os.path.basename(p).split(".")[0] for p in glob.glob("target/metadrive-speed/*.jsonl")}):
         for tag, name in METADRIVE_ALGORITHMS:
-            two = runs_of(f"target/metadrive/{policy}.jobs2-{tag}")
-            # The same seeds with one executor.
+            two = runs_of(f"target/metadrive-speed/{policy}.jobs2-{tag}")
             seeds = {p.rsplit(".", 2)[-2] for p in two}
-            one = [p for p in runs_of(f"target/metadrive/{policy}.{tag}") if p.rsplit(".", 2)[-2] in seeds]
+            one = [p for p in runs_of(f"target/metadrive-speed/{policy}.{tag}") if p.rsplit(".", 2)[-2] in seeds]
             if one and two:
                 r1, r2 = tests_per_wall_minute(one), tests_per_wall_minute(two)
                 out()
-                out(f"`--jobs 2` ({name}, {len(two)} runs): {num(r2)} tests per wall minute against "
-                    f"{num(r1)} with one executor on the same seeds, {num(r2 / r1, 2)}x (two "
-                    "MetaDrive executors on a 2-core machine).")
+                out(f"`--jobs 2` (`--policy {policy}`, {name}, {len(two)} runs, made with nothing "
+                    f"else running): {num(r2)} tests per wall minute against {num(r1)} with one "
+                    f"executor on the same seeds, {num(r2 / r1, 2)}x (two MetaDrive executors on a "
+                    "2-core machine).")
 
 
 # ---------------------------------------------------------------------------------------------

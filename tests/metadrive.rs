@@ -44,10 +44,14 @@ fn executor_script() -> String {
     script.canonicalize().unwrap().display().to_string()
 }
 
-/// The executor processes of this checkout still running.
+/// A wall-time limit of the test's own, given to every executor it starts, so that its processes
+/// are told apart from any other of this checkout (a campaign running beside the tests).
+const MARK: &str = "--road-wall-timeout 299.5";
+
+/// The executor processes this test started still running.
 fn executors_left() -> String {
     let found = Command::new("pgrep")
-        .args(["-f", &executor_script()])
+        .args(["-f", &format!("{} .*{MARK}", executor_script())])
         .output()
         .expect("pgrep");
     String::from_utf8_lossy(&found.stdout).into_owned()
@@ -57,12 +61,13 @@ fn executors_left() -> String {
 fn metadrive_drives_roads_searches_and_leaves_no_process() {
     let Some(python) = python() else { return };
     let script = executor_script();
-    let command = format!("cmd:{} {script} --policy idm", python.display());
+    let command = format!("cmd:{} {script} --policy idm {MARK}", python.display());
 
     // 1. The protocol from the executor's end: a straight road passes; a U-turn tighter than the
     // car can follow at 70 km/h leaves the lane, over the road's outer edge.
     let mut executor = Command::new(&python)
-        .args([&script, "--policy", "idm"])
+        .args([&script, "--policy", "idm", "--execution-data"])
+        .args(MARK.split(' '))
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
@@ -133,6 +138,34 @@ fn metadrive_drives_roads_searches_and_leaves_no_process() {
         (2.0..8.0).contains(&off_road_m),
         "exit at {point:?}, {off_road_m} m off the road: {stdout}"
     );
+    // With --execution-data (scripts/peers' pipeline reads it): the SBST pipeline's 17-field
+    // records, one per sample (50 Hz) to the end; out of bounds only at the last, where it left.
+    let records = answers[1]["execution_data"]
+        .as_array()
+        .expect("execution_data");
+    let sim_time_s = answers[1]["sim_time_s"].as_f64().unwrap();
+    assert!(records
+        .iter()
+        .all(|r| r.as_array().is_some_and(|r| r.len() == 17)));
+    assert_eq!(
+        records.len(),
+        (sim_time_s * 50.0).round() as usize,
+        "one record per sample"
+    );
+    let last = &records[records.len() - 1];
+    assert_eq!(last[0].as_f64(), Some(sim_time_s), "timer");
+    assert_eq!(
+        (&last[12], &last[13]),
+        (&Value::from(true), &Value::from(1)),
+        "is_oob, oob_counter: {last}"
+    );
+    assert!(records[..records.len() - 1].iter().all(|r| r[12] == false));
+    for (axis, at) in point.iter().enumerate() {
+        assert!(
+            (last[1][axis].as_f64().unwrap() - at).abs() < 1e-3,
+            "pos {last} at oob_point {point:?}"
+        );
+    }
     assert_eq!(executors_left(), "", "the piped executor ended");
 
     // 2. A search with two executors: every test answered by MetaDrive, none left running.

@@ -52,7 +52,9 @@ The measures, sampled at every physics step (50 Hz):
 Answers carry `id`, `max_bolp`, `outcome`, `sim_time_s`, `oob_side` and `oob_point` (FAIL out of
 lane only: the side, and the car centre in wogan's frame at the first sample past the tolerance),
 `error` (ERROR only: kept in the test record) and, for people reading them (wogan ignores them),
-`reason`, `policy` and `wall_s`.
+`reason`, `policy` and `wall_s`. With `--execution-data` (for the SBST pipeline's generators in
+scripts/peers, which read the drive) an answer also carries `execution_data`: one array per sample
+of the pipeline's 17 `SimulationDataRecord` fields, as `wogan simulate --execution-data` gives.
 
 Faults: a road whose geometry cannot be built, or a MetaDrive exception while building or driving
 it, answers that road `ERROR` with the message in `error`; MetaDrive is then closed and started
@@ -346,6 +348,8 @@ class LaneMonitor:
     car_width_m: float
     tolerance: float
     max_bolp: float = 0.0
+    last_bolp: float = 0.0
+    last_lateral_m: float = 0.0  # of the car centre from the centre line, positive left
     verdict: Optional[Verdict] = None
     samples: int = 0
     _segment: int = 0
@@ -399,6 +403,7 @@ class LaneMonitor:
         segment, lateral = self.project(center)
         bolp = self.bolp(center, heading, segment)
         self.max_bolp = max(self.max_bolp, bolp)
+        self.last_bolp, self.last_lateral_m = bolp, lateral
         if bolp > self.tolerance:
             # wogan's side: left when nearer the lane's left edge (the centre line) than its right.
             dist_left, dist_right = -lateral, lateral + ROAD_WIDTH_M / 2.0
@@ -595,6 +600,52 @@ class DriveResult:
     sim_time_s: float
     side: Optional[str]
     point: Optional[tuple] = None
+    execution_data: Optional[list] = None  # with --execution-data
+
+
+# The competition pipeline's `SimulationDataRecord` fields, in its order (`--execution-data`).
+RECORD_FIELDS = ("timer", "pos", "dir", "vel", "steering", "steering_input", "brake",
+                 "brake_input", "throttle", "throttle_input", "wheelspeed", "vel_kmh", "is_oob",
+                 "oob_counter", "max_oob_percentage", "oob_distance", "oob_percentage")
+ROAD_HEIGHT_M = -28.0  # the competition level's road surface (wogan's sbst/format.rs)
+
+
+@dataclass
+class ExecutionData:
+    """The drive as the competition pipeline records it, one 17-field array per sample, mapped as
+    `wogan simulate --execution-data` maps its own samples (crates/cli/src/sbst/format.rs):
+    the pipeline's out-of-bound monitor run over BOLP at the tolerance, `oob_distance` the car
+    centre's distance inside the nearer edge of its lane, the driver's command as both input and
+    applied value. MetaDrive's steering is its action in [-1, 1]; in degrees, times the car's
+    `max_steering`."""
+
+    tolerance: float
+    records: list = field(default_factory=list)
+    _oob_counter: int = 0
+    _was_oob: bool = False
+    _max_oob: float = 0.0
+
+    def sample(self, t: float, position: np.ndarray, heading: float, car: Any,
+               monitor: "LaneMonitor") -> None:
+        bolp = monitor.last_bolp
+        is_oob = bolp > self.tolerance
+        if is_oob and not self._was_oob:  # a new out-of-bound episode starts its maximum afresh
+            self._oob_counter += 1
+            self._max_oob = bolp
+        elif is_oob:
+            self._max_oob = max(self._max_oob, bolp)
+        self._was_oob = is_oob
+        speed_mps = float(car.speed)
+        c, s = math.cos(heading), math.sin(heading)
+        steering_input = min(1.0, max(-1.0, float(car.steering)))
+        throttle_brake = min(1.0, max(-1.0, float(car.throttle_brake)))
+        throttle, brake = max(throttle_brake, 0.0), max(-throttle_brake, 0.0)
+        oob_distance = LANE_WIDTH_M / 2.0 - abs(monitor.last_lateral_m + LANE_WIDTH_M / 2.0)
+        self.records.append([
+            round(t, 4), [float(position[0]), float(position[1]), ROAD_HEIGHT_M], [c, s, 0.0],
+            [speed_mps * c, speed_mps * s, 0.0], steering_input * float(car.max_steering),
+            steering_input, brake, brake, throttle, throttle, speed_mps, round(speed_mps * 3.6),
+            is_oob, self._oob_counter, self._max_oob, oob_distance, bolp])
 
 
 class MetaDriveDriver:
@@ -671,8 +722,9 @@ class MetaDriveDriver:
             env, self.env = self.env, None
             env.close()
 
-    def drive(self, road: Road, broken: bool = False) -> DriveResult:
-        """Drives `road` (`broken`: without its lane's centre line, to test the fault path)."""
+    def drive(self, road: Road, broken: bool = False, record: bool = False) -> DriveResult:
+        """Drives `road` (`broken`: without its lane's centre line, to test the fault path;
+        `record`: with the pipeline's execution records)."""
         if self.env is None:
             self.start()
         env = self.env
@@ -688,6 +740,7 @@ class MetaDriveDriver:
         monitor = LaneMonitor(road, float(car.LENGTH), float(car.WIDTH), self.tolerance)
         dt = float(env.config["physics_world_step_size"])
         steps = [0]
+        recorder = ExecutionData(self.tolerance) if record else None
 
         def on_sample() -> None:
             k = steps[0]
@@ -695,7 +748,10 @@ class MetaDriveDriver:
             if k == 0:  # the start pose, before any step: wogan samples after each step
                 return
             position = np.asarray(car.position, dtype=float) + origin
-            monitor.sample(k * dt, position, float(car.heading_theta))
+            heading = float(car.heading_theta)
+            monitor.sample(k * dt, position, heading)
+            if recorder is not None and monitor.samples > len(recorder.records):
+                recorder.sample(k * dt, position, heading, car, monitor)
 
         self._on_sample = on_sample
         try:
@@ -706,7 +762,8 @@ class MetaDriveDriver:
         finally:
             self._on_sample = None
         v = monitor.verdict
-        return DriveResult(v.outcome, v.reason, monitor.max_bolp, v.t_s, v.side, v.point)
+        return DriveResult(v.outcome, v.reason, monitor.max_bolp, v.t_s, v.side, v.point,
+                           recorder.records if recorder is not None else None)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -716,8 +773,10 @@ class MetaDriveDriver:
 class Executor:
     """Reads protocol lines, drives roads, writes answers."""
 
-    def __init__(self, policy: str, out: TextIO, wall_timeout_s: float) -> None:
+    def __init__(self, policy: str, out: TextIO, wall_timeout_s: float,
+                 execution_data: bool = False) -> None:
         self.policy = policy
+        self.execution_data = execution_data
         self.out = out
         self.wall_timeout_s = wall_timeout_s
         self.speed_limit_kmh = DEFAULT_SPEED_LIMIT_KMH
@@ -758,7 +817,8 @@ class Executor:
         previous = signal.signal(signal.SIGALRM, _on_alarm)
         signal.setitimer(signal.ITIMER_REAL, self.wall_timeout_s)
         try:
-            result = self.driver.drive(road, broken=fault_injection(road_id))
+            result = self.driver.drive(road, broken=fault_injection(road_id),
+                                       record=self.execution_data)
         except Exception as error:  # MetaDrive's exceptions are of every kind
             signal.setitimer(signal.ITIMER_REAL, 0)
             what = ("MetaDrive took more than %g s of wall time" % self.wall_timeout_s
@@ -781,6 +841,8 @@ class Executor:
         if result.reason is not None:
             answer["reason"] = result.reason
         answer["policy"] = self.policy
+        if result.execution_data is not None:
+            answer["execution_data"] = result.execution_data
         answer["wall_s"] = round(time.monotonic() - started, 3)
         self.answer(answer)
 
@@ -854,6 +916,10 @@ def main(argv: Optional[list] = None) -> int:
                         help="who drives: MetaDrive's IDMPolicy or its PPO expert (default idm)")
     parser.add_argument("--road-wall-timeout", type=float, default=300.0, metavar="SECONDS",
                         help="wall time one road may take before it is answered ERROR (default 300)")
+    parser.add_argument("--execution-data", action="store_true",
+                        help="answers also carry the drive as the SBST pipeline records it "
+                             "(`execution_data`, as `wogan simulate --execution-data`), for "
+                             "scripts/peers; wogan ignores it")
     parser.add_argument("--log-level", default="INFO", help="of the log on standard error")
     args = parser.parse_args(argv)
 
@@ -867,7 +933,7 @@ def main(argv: Optional[list] = None) -> int:
                         format="[metadrive-executor %(process)d] %(levelname)s %(message)s")
     signal.signal(signal.SIGTERM, _on_terminate)
     signal.signal(signal.SIGINT, _on_terminate)
-    executor = Executor(args.policy, protocol_out, args.road_wall_timeout)
+    executor = Executor(args.policy, protocol_out, args.road_wall_timeout, args.execution_data)
     try:
         executor.run(sys.stdin)
     except SystemExit as stop:

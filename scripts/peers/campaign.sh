@@ -4,7 +4,11 @@
 #
 #   PEERS_HOME=/path/to/peers scripts/peers/campaign.sh [ORACLES] [SEEDS] [TOOLS]
 #   PEERS_HOME=~/peers scripts/peers/campaign.sh "beamng-ai-proxy dave2-proxy" "1 2 3"
+#   PEERS_HOME=~/peers scripts/peers/campaign.sh "metadrive-idm metadrive-expert" "1 2 3"
 #
+# ORACLES: wogan's drivers, or metadrive-idm / metadrive-expert: MetaDrive's executor
+# (examples/metadrive/, after its setup.sh) with that policy, at wogan's default conditions (0.85
+# tolerance, 70 km/h), answering with the pipeline's execution data.
 # TOOLS: any of random freneticv ambiegen adafrenetic frenetic2021 (default: all). Each run is a
 # result folder target/peers/ORACLE.TOOL.SEED/ (the pipeline's test.NNNN.json files, run.log,
 # tests.jsonl, summary.json); a folder with a summary.json is kept, one without or whose summary
@@ -26,6 +30,10 @@ if [ -z "${WOGAN:-}" ]; then
   WOGAN=target/release/wogan
 fi
 out=target/peers
+metadrive_python=target/metadrive-venv/bin/python
+case " $oracles " in
+  *" metadrive-"*) [ -x "$metadrive_python" ] || { echo "campaign.sh: no $metadrive_python: run examples/metadrive/setup.sh" >&2; exit 2; } ;;
+esac
 mkdir -p "$out/interrupted"
 
 # The generator of each tool: its Python environment, pipeline checkout, then run_peer.py's options.
@@ -51,9 +59,14 @@ for oracle in $oracles; do
         continue
       fi
       if [ -d "$folder" ]; then mv "$folder" "$out/interrupted/$oracle.$tool.$seed.$(date +%s)"; fi
+      # The driver: wogan's simulator, or MetaDrive's executor for metadrive-POLICY.
+      case "$oracle" in
+        metadrive-*) drive=(--executor "$metadrive_python examples/metadrive/executor.py --policy ${oracle#metadrive-} --execution-data --log-level WARNING") ;;
+        *) drive=(--wogan "$WOGAN") ;;
+      esac
       # shellcheck disable=SC2086 # options are words
       "$peers/$venv/bin/python" scripts/peers/run_peer.py --pipeline "$peers/$checkout" $options \
-        --wogan "$WOGAN" --oracle "$oracle" --seed "$seed" --out "$folder" \
+        "${drive[@]}" --oracle "$oracle" --seed "$seed" --out "$folder" \
         > "$folder.log" 2>&1 || true
       if [ -f "$folder/summary.json" ]; then
         echo "$oracle $tool seed $seed: $(cut -c1-400 "$folder/summary.json")"

@@ -2,10 +2,13 @@
 
 Dev-time only (docs: scripts/peers/README.md). It does what the pipeline's competition.py
 `generate` does (its logging, a result folder, the executor, `the_class(executor=...,
-map_size=...).start()`), with simulate_executor.WoganExecutor in place of BeamNG's:
+map_size=...).start()`), with simulate_executor.WoganExecutor in place of BeamNG's, driving roads with `wogan simulate` or
+with an executor (MetaDrive's):
 
   venv/bin/python scripts/peers/run_peer.py --pipeline PIPELINE --module-name M --class-name C \
       --wogan target/release/wogan --oracle beamng-ai-proxy --seed 1 --out OUT
+  venv/bin/python scripts/peers/run_peer.py ... --oracle metadrive-idm --seed 1 --out OUT \
+      --executor "target/metadrive-venv/bin/python examples/metadrive/executor.py --policy idm --execution-data"
 
 Budgets are the competition's (1 h of generation, 2 h of simulated execution), on a virtual clock:
 the pipeline's `time.monotonic` advances by each drive's simulated time (which the pipeline does
@@ -18,6 +21,7 @@ import json
 import logging as log
 import os
 import random
+import shlex
 import signal
 import sys
 import time
@@ -71,8 +75,13 @@ def arguments():
     p.add_argument("--api", choices=["2022", "2021"], default="2022",
                    help="2021: a generator written for the 2021 pipeline (time_budget argument, "
                         "get_remaining_time() in seconds)")
-    p.add_argument("--wogan", required=True, help="the wogan binary")
-    p.add_argument("--oracle", default="beamng-ai-proxy")
+    p.add_argument("--wogan", help="the wogan binary (drives the roads with `wogan simulate`)")
+    p.add_argument("--executor", metavar="COMMAND",
+                   help="instead of --wogan: an executor speaking wogan's executor protocol that "
+                        "answers with execution data, e.g. \"PYTHON examples/metadrive/executor.py "
+                        "--policy idm --execution-data\" (split as a shell would)")
+    p.add_argument("--oracle", default="beamng-ai-proxy",
+                   help="the driver: wogan's (with --wogan), or the executor's name in the summary")
     p.add_argument("--oob-tolerance", type=float, default=None,
                    help="default: the competition's 0.85 for beamng-ai-proxy, 0.10 for dave2-proxy")
     p.add_argument("--speed-limit", type=int, default=None,
@@ -87,7 +96,9 @@ def arguments():
     p.add_argument("--seed", type=int, help="seeds Python's random and numpy's global generator")
     p.add_argument("--out", required=True, help="result folder, created (an existing one is refused)")
     args = p.parse_args()
-    dave2 = args.oracle != "beamng-ai-proxy"
+    if (args.wogan is None) == (args.executor is None):
+        p.error("give one of --wogan and --executor")
+    dave2 = args.oracle == "dave2-proxy"
     if args.oob_tolerance is None:
         args.oob_tolerance = 0.10 if dave2 else 0.85
     if args.speed_limit is None:
@@ -99,7 +110,12 @@ def main():
     args = arguments()
     out = os.path.abspath(args.out)
     os.makedirs(out)  # refuses an existing folder: a run never writes over another
-    wogan = os.path.abspath(args.wogan)
+    # Paths made absolute before the generator's folder becomes the working directory.
+    wogan = os.path.abspath(args.wogan) if args.wogan else None
+    executor_command = None
+    if args.executor is not None:
+        executor_command = [os.path.abspath(w) if os.path.exists(w) else w
+                            for w in shlex.split(args.executor)]
     sys.path[:0] = [HERE, os.path.abspath(args.pipeline)]
     if args.module_path:  # after the pipeline: its code_pipeline is the one that runs
         sys.path.insert(2, os.path.abspath(args.module_path))
@@ -118,11 +134,16 @@ def main():
 
     import competition
     from code_pipeline.test_generation_utils import register_exit_fun
-    from simulate_executor import Api2021Executor, SimulateChild, WoganExecutor
+    from simulate_executor import Api2021Executor, ExecutorChild, SimulateChild, WoganExecutor
 
     competition.setup_logging(os.path.join(out, "run.log"), False)
     generator_class = getattr(importlib.import_module(args.module_name), args.class_name)
-    child = SimulateChild(wogan, args.oracle, args.oob_tolerance, args.speed_limit, args.map_size)
+    if args.executor is not None:
+        child = ExecutorChild(executor_command, args.oob_tolerance, args.speed_limit,
+                              args.map_size)
+    else:
+        child = SimulateChild(wogan, args.oracle, args.oob_tolerance, args.speed_limit,
+                              args.map_size)
     executor_class = Api2021Executor if args.api == "2021" else WoganExecutor
     executor = executor_class(out, args.map_size, child, generation_budget=args.generation_budget,
                               execution_budget=args.execution_budget,
@@ -167,7 +188,8 @@ def write_summary(args, out, executor, started):
     """summary.json: what `wogan report` reads as the run's configuration, and the run's counts."""
     stats = executor.stats
     summary = {"type": "summary", "generator": f"{args.module_name}.{args.class_name}",
-               "oracle": args.oracle, "oob_tolerance": args.oob_tolerance,
+               "oracle": args.oracle, "executor": args.executor,
+               "oob_tolerance": args.oob_tolerance,
                "speed_limit": args.speed_limit, "seed": args.seed, "clock": args.clock,
                "generation_budget_s": args.generation_budget,
                "execution_budget_s": args.execution_budget,

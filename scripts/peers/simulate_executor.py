@@ -3,11 +3,12 @@
 It subclasses the 2022 pipeline's AbstractTestExecutor as its own executors do, so the pipeline
 still validates every test, keeps the budgets and statistics and writes its test.NNNN.json files;
 only `_execute` differs: the road goes to one long-lived `wogan simulate --execution-data` child
-(a streaming filter: one road in, one answer out) and the answer's `execution_data` becomes the
-pipeline's SimulationDataRecord list. Besides, the executor
+(a streaming filter: one road in, one answer out), or to an executor speaking wogan's executor
+protocol that answers with execution data (`ExecutorChild`: MetaDrive's), and the answer's
+`execution_data` becomes the pipeline's SimulationDataRecord list. Besides, the executor
 
-* advances the run's virtual clock (run_peer.py) by each drive's simulated time, which passes
-  during execution as BeamNG's real time would;
+* makes each drive cost the run's virtual clock (run_peer.py) its simulated time, which passes
+  during execution as BeamNG's real time would (the drive's own wall time counted in it);
 * appends every proposal to tests.jsonl: the pipeline's verdict, the outcome, the road, wogan's
   answer (without its records) and the pipeline clock;
 * leaves the empty folder simulations/beamng_executor/sim_NNNNN that BeamNG's executor would
@@ -87,6 +88,63 @@ class SimulateChild:
         self.process.stdout.close()
 
 
+class ExecutorChild:
+    """One executor speaking wogan's executor protocol, version 2 (docs/reference.md), that
+    answers with the pipeline's `execution_data` (examples/metadrive/executor.py
+    `--execution-data`): hello once, then one road, one answer. It is charged as wogan charges an
+    executor: the answer's `sim_time_s`."""
+
+    def __init__(self, command, oob_tolerance, speed_limit, map_size):
+        self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                        text=True, bufsize=1)
+        self.lines = 0
+        hello = {"type": "hello", "protocol": "wogan-executor", "version": 2,
+                 "units": "metres, seconds", "map_size_m": float(map_size),
+                 "oob_tolerance": float(oob_tolerance), "speed_limit_kmh": float(speed_limit)}
+        self.process.stdin.write(json.dumps(hello) + "\n")
+        self.process.stdin.flush()
+
+    def drive(self, road_points):
+        """The answer to one road (a dict with outcome, reason, max_bolp, sim_time_s,
+        execution_data...)."""
+        self.lines += 1
+        road = {"type": "road", "id": self.lines,
+                "road_points": [[float(x), float(y)] for x, y in road_points]}
+        try:
+            self.process.stdin.write(json.dumps(road) + "\n")
+            self.process.stdin.flush()
+            line = self.process.stdout.readline()
+        except (BrokenPipeError, ValueError):
+            line = ""
+        if not line:
+            self.process.poll()
+            raise SimulateError(f"the executor ended before answering road {self.lines} "
+                                f"(exit status {self.process.returncode})")
+        try:
+            answer = json.loads(line)
+        except ValueError:
+            answer = None
+        if not isinstance(answer, dict) or answer.get("id") != self.lines:
+            raise SimulateError(f"the executor answered road {self.lines} with {line[:200]!r}")
+        if answer.get("outcome") == "ERROR":
+            answer.setdefault("message", answer.get("error"))
+        return answer
+
+    def close(self):
+        """Ends the executor: `bye` and end of input, then a kill if it has not exited in 10 s."""
+        try:
+            self.process.stdin.write(json.dumps({"type": "bye"}) + "\n")
+            self.process.stdin.close()
+        except (BrokenPipeError, ValueError):
+            pass
+        try:
+            self.process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+        self.process.stdout.close()
+
+
 def pipeline_records(execution_data):
     """wogan's 17-field arrays as this pipeline's SimulationDataRecord, field by field."""
     records = []
@@ -139,13 +197,16 @@ class WoganExecutor(AbstractTestExecutor):
 
     def _execute(self, the_test):
         super()._execute(the_test)
+        started = time.monotonic()
         answer = self.child.drive(the_test.road_points)
         records = pipeline_records(answer.pop("execution_data", None) or [])
         self.last_answer = answer
         os.makedirs(os.path.join("simulations", "beamng_executor", f"sim_{the_test.id:05d}"),
                     exist_ok=True)
         if self.clock is not None:
-            self.clock.advance(answer.get("sim_time_s", 0.0))
+            # The drive costs its simulated time: the clock passed the drive's wall time already.
+            spent = time.monotonic() - started
+            self.clock.advance(max(answer.get("sim_time_s", 0.0) - spent, 0.0))
         outcome, description = outcome_of(answer, the_test.id)
         return outcome, description, records
 
