@@ -8,6 +8,7 @@ mod controller;
 mod executor;
 mod export;
 mod fuzz;
+mod keras;
 mod metadrive;
 mod onnx;
 mod reference_vectors;

@@ -5,7 +5,8 @@ use crate::value_parsers::{map_size_m, oracle, positive_kmh, share, Oracle};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::driver::{
-    BeamNgAiParams, ControllerConfig, ControllerParams, Dave2DriverParams, OnnxConfig, OnnxParams,
+    BeamNgAiParams, Contract, ControllerConfig, ControllerParams, Dave2DriverParams, OnnxConfig,
+    OnnxParams,
 };
 use road_sim::vision::Dave2Weights;
 use road_sim::{DriverConfig, DriverKind, SimConfig};
@@ -188,8 +189,18 @@ fn onnx_config(
             );
         }
     }
-    let params =
-        config_file::lay_over::<OnnxParams>(patch.as_ref(), OnnxParams::default(), section)?;
+    // The named contract's settings first, then the section's own over them.
+    let contract = match patch.as_ref().and_then(|p| p.get("contract")) {
+        None => Contract::default(),
+        Some(name) => serde_json::from_value::<Contract>(name.clone()).map_err(|_| {
+            let known: Vec<&str> = Contract::ALL.iter().map(|c| c.name()).collect();
+            anyhow::anyhow!(
+                "config file, {section}.contract: {name} is not a contract; known: {}",
+                known.join(", ")
+            )
+        })?,
+    };
+    let params = config_file::lay_over::<OnnxParams>(patch.as_ref(), contract.params(), section)?;
     params.validate().context("invalid driver settings")?;
     let config = OnnxConfig::load(model, params)?;
     Ok(DriverConfig::Onnx(config))

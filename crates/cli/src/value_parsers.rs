@@ -166,6 +166,18 @@ pub fn round_acceptance(name: &str) -> Result<wogan_core::RoundAcceptance, Strin
     }
 }
 
+/// A camera network's contract by name.
+pub fn contract(name: &str) -> Result<road_sim::driver::Contract, String> {
+    use road_sim::driver::Contract;
+    Contract::ALL
+        .into_iter()
+        .find(|c| c.name() == name)
+        .ok_or_else(|| {
+            let known: Vec<&str> = Contract::ALL.iter().map(|c| c.name()).collect();
+            format!("unknown contract {name:?}; known: {}", known.join(", "))
+        })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

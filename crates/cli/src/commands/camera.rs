@@ -1,9 +1,11 @@
-//! `wogan camera`: what `dave2-proxy`'s camera sees from the right lane of a road, as PNG.
+//! `wogan camera`: what `dave2-proxy`'s camera, or a camera network contract's, sees from the
+//! right lane of a road, as PNG.
 
 use super::Status;
 use crate::json_lines::{numbered_lines, open_input};
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use road_sim::driver::Contract;
 use road_sim::road::input::{parse_line, RoadInput};
 use road_sim::sim::start_pose;
 use road_sim::vision::{write_png, Camera, CameraParams, RoadScene};
@@ -25,6 +27,10 @@ pub struct CameraArgs {
     /// Write the network's grayscale input instead of the colour picture.
     #[arg(long)]
     pub gray: bool,
+    /// The camera of a camera network's contract (`sbst2022`, `udacity`) at its render size,
+    /// instead of dave2-proxy's.
+    #[arg(long, value_name = "NAME", value_parser = crate::value_parsers::contract)]
+    pub contract: Option<Contract>,
     /// Side of the square map, metres.
     #[arg(long, default_value_t = 200.0, value_parser = crate::value_parsers::map_size_m, allow_negative_numbers = true)]
     pub map_size: f64,
@@ -59,7 +65,14 @@ pub fn run(args: &CameraArgs) -> Result<Status> {
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
-    let camera = Camera::new(CameraParams::default());
+    let camera = Camera::new(match args.contract {
+        // A contract's camera renders at the model's size when it has none of its own.
+        Some(contract) => contract.params().camera.camera(
+            CameraParams::default().width,
+            CameraParams::default().height,
+        ),
+        None => CameraParams::default(),
+    });
     let scene = RoadScene::new(&road);
     if let Some(beyond) = args.at.iter().find(|&&at| at > road.length_m()) {
         bail!(

@@ -86,6 +86,8 @@ pub struct CameraParams {
     pub height_m: f64,
     /// Forward distance from the car's centre, metres.
     pub forward_m: f64,
+    /// Sideways distance from the car's centre line, metres, positive left (side cameras).
+    pub left_m: f64,
     /// Ground points farther ahead of the camera than this (metres) show as grass: a haze limit
     /// (whole image rows, so a row stays evenly spaced on the ground).
     pub max_range_m: f64,
@@ -100,6 +102,7 @@ impl Default for CameraParams {
             pitch_down_deg: 8.0,
             height_m: 1.5,
             forward_m: 0.5,
+            left_m: 0.0,
             max_range_m: 120.0,
         }
     }
@@ -328,7 +331,7 @@ impl Camera {
                 let down = focal * sin_p + v * cos_p;
                 let hit = if down > 0.0 {
                     let t = params.height_m / down;
-                    let g = [params.forward_m + t * fwd, t * left];
+                    let g = [params.forward_m + t * fwd, params.left_m + t * left];
                     if t * fwd <= params.max_range_m {
                         g
                     } else {

@@ -4,7 +4,8 @@
 //! `[-1, 1]`) times the car's maximum wheel angle, as dave2-proxy does; the throttle follows
 //! [`ThrottleRule`].
 
-use super::model::{Layout, ModelState, OnnxError, OnnxModel};
+use super::contract::{CameraSetting, Contract, SteeringSide};
+use super::model::{Layout, ModelState, OnnxError, OnnxModel, MAX_SIDE, MIN_SIDE};
 use super::preprocessing::{ColourSpace, PixelScaling, Preprocessor};
 use super::throttle::{CompetitionThrottle, ThrottleRule};
 use crate::driver::dave2;
@@ -13,7 +14,7 @@ use crate::driver::preset::DriverPreset;
 use crate::road::Road;
 use crate::setting_checks::{all_non_negative, all_within, SettingsError};
 use crate::sim::{Command, Driver, Observation, VehicleParams};
-use crate::vision::{Camera, CameraParams, Frame, RoadScene};
+use crate::vision::{Camera, Frame, RoadScene};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
@@ -27,8 +28,12 @@ pub const PRESET: DriverPreset = dave2::PRESET;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct OnnxParams {
+    /// The contract these settings started from (recorded; the settings below are what drives).
+    pub contract: Contract,
     /// Control (camera and network) rate, hertz: dave2-proxy's.
     pub control_hz: f64,
+    /// The camera the frames come from.
+    pub camera: CameraSetting,
     /// How the input shape is read.
     pub layout: Layout,
     /// Rows cropped off the top of the camera frame (the competition's 80 of 160: the sky).
@@ -39,8 +44,15 @@ pub struct OnnxParams {
     pub colour_space: ColourSpace,
     /// How pixel bytes become input values.
     pub pixel_scaling: PixelScaling,
+    /// Which way a positive steering answer turns.
+    pub steering_positive: SteeringSide,
+    /// The wheel angle of a steering answer of 1, degrees (`None`: the car's limit); the car
+    /// clamps it to its limit.
+    pub max_steering_deg: Option<f64>,
     /// How the speed is kept.
     pub throttle: ThrottleRule,
+    /// The competition rule's speed limit, km/h (`None`: the run's `--speed-limit`).
+    pub max_speed_kmh: Option<f64>,
     /// The competition rule's speed once the car went above the limit, km/h.
     pub slow_down_kmh: f64,
     /// The speed controller's set speed, km/h (capped by the speed limit).
@@ -55,14 +67,26 @@ pub struct OnnxParams {
 
 impl Default for OnnxParams {
     fn default() -> Self {
+        Self::sbst2022()
+    }
+}
+
+impl OnnxParams {
+    /// The `sbst2022` contract's settings (the default).
+    pub(super) fn sbst2022() -> Self {
         Self {
+            contract: Contract::Sbst2022,
             control_hz: 10.0,
+            camera: CameraSetting::default(),
             layout: Layout::Auto,
             crop_top_rows: 80,
             crop_bottom_rows: 1,
             colour_space: ColourSpace::Yuv,
             pixel_scaling: PixelScaling::Raw,
+            steering_positive: SteeringSide::Left,
+            max_steering_deg: None,
             throttle: ThrottleRule::Competition,
+            max_speed_kmh: None,
             slow_down_kmh: 10.0,
             speed_kmh: 25.0,
             throttle_gain: 0.5,
@@ -70,18 +94,46 @@ impl Default for OnnxParams {
             brake_deadband_mps: 0.5,
         }
     }
-}
 
-impl OnnxParams {
     /// Names the first setting no model can be driven with (those that depend on the model are
     /// checked by [`OnnxConfig::load`]).
     pub fn validate(&self) -> Result<(), SettingsError> {
+        let c = &self.camera;
+        let side = |v: Option<usize>| v.map_or(MIN_SIDE as f64, |v| v as f64);
         all_within(
             "driver.",
             &[
                 ("control_hz", self.control_hz, 0.1, 100.0),
                 ("slow_down_kmh", self.slow_down_kmh, 0.1, 300.0),
                 ("speed_kmh", self.speed_kmh, 0.1, 300.0),
+                (
+                    "max_speed_kmh",
+                    self.max_speed_kmh.unwrap_or(1.0),
+                    0.1,
+                    300.0,
+                ),
+                (
+                    "max_steering_deg",
+                    self.max_steering_deg.unwrap_or(1.0),
+                    0.1,
+                    90.0,
+                ),
+                (
+                    "camera.width",
+                    side(c.width),
+                    MIN_SIDE as f64,
+                    MAX_SIDE as f64,
+                ),
+                (
+                    "camera.height",
+                    side(c.height),
+                    MIN_SIDE as f64,
+                    MAX_SIDE as f64,
+                ),
+                ("camera.hfov_deg", c.hfov_deg, 1.0, 170.0),
+                ("camera.pitch_down_deg", c.pitch_down_deg, -45.0, 89.0),
+                ("camera.height_m", c.height_m, 0.1, 10.0),
+                ("camera.forward_m", c.forward_m, -5.0, 5.0),
             ],
         )?;
         all_non_negative(
@@ -112,12 +164,18 @@ impl OnnxConfig {
             path: path.to_owned(),
             problem,
         };
-        let height = model.input().height;
-        if params.crop_top_rows + params.crop_bottom_rows >= height {
+        let input = model.input();
+        let camera = params.camera.camera(input.width, input.height);
+        if params.crop_top_rows + params.crop_bottom_rows >= camera.height {
+            let whose = if params.camera.height.is_some() {
+                "driver.camera.height"
+            } else {
+                "the model's"
+            };
             return Err(setting(format!(
-                "driver.crop_top_rows ({}) and driver.crop_bottom_rows ({}) leave no row of the \
-                 model's {height}-row frame",
-                params.crop_top_rows, params.crop_bottom_rows
+                "driver.crop_top_rows ({}) and driver.crop_bottom_rows ({}) leave no row of \
+                 the camera's {}-row frame ({whose})",
+                params.crop_top_rows, params.crop_bottom_rows, camera.height
             )));
         }
         if params.throttle == ThrottleRule::Network && model.outputs() != 2 {
@@ -142,8 +200,10 @@ impl OnnxConfig {
     pub fn build(&self) -> OnnxDriver {
         let input = self.model.input();
         let p = &self.params;
+        let camera = p.camera.camera(input.width, input.height);
         let preprocessor = Preprocessor::new(
             input,
+            [camera.width, camera.height],
             p.crop_top_rows,
             p.crop_bottom_rows,
             p.colour_space,
@@ -155,11 +215,8 @@ impl OnnxConfig {
             // `load` checked the crop.
             (Ok(_), false) => (None, Some("the crop leaves no row".to_string())),
         };
-        let camera = Camera::new(CameraParams {
-            width: input.width,
-            height: input.height,
-            ..CameraParams::default()
-        });
+        let frame = Frame::new(camera.width, camera.height, input.channels);
+        let camera = Camera::new(camera);
         OnnxDriver {
             params: self.params,
             path: self.model.path().display().to_string(),
@@ -168,11 +225,14 @@ impl OnnxConfig {
             preprocessor,
             camera,
             scene: None,
-            frame: Frame::new(input.width, input.height, input.channels),
+            frame,
             input: Vec::new(),
             max_steering_rad: VehicleParams::default().max_steering_rad,
             target_mps: p.speed_kmh / 3.6,
-            competition: CompetitionThrottle::new(p.speed_kmh, p.slow_down_kmh),
+            competition: CompetitionThrottle::new(
+                p.max_speed_kmh.unwrap_or(p.speed_kmh),
+                p.slow_down_kmh,
+            ),
             failure,
         }
     }
@@ -224,10 +284,13 @@ impl Driver for OnnxDriver {
 
     fn reset(&mut self, road: &Road, vehicle: &VehicleParams, speed_limit_mps: f64) {
         self.scene = Some(RoadScene::new(road));
-        self.max_steering_rad = vehicle.max_steering_rad;
-        self.target_mps = (self.params.speed_kmh / 3.6).min(speed_limit_mps);
-        self.competition =
-            CompetitionThrottle::new(speed_limit_mps * 3.6, self.params.slow_down_kmh);
+        let p = &self.params;
+        self.max_steering_rad = p
+            .max_steering_deg
+            .map_or(vehicle.max_steering_rad, f64::to_radians);
+        self.target_mps = (p.speed_kmh / 3.6).min(speed_limit_mps);
+        let max_kmh = p.max_speed_kmh.unwrap_or(speed_limit_mps * 3.6);
+        self.competition = CompetitionThrottle::new(max_kmh, p.slow_down_kmh);
     }
 
     fn act(&mut self, observation: &Observation<'_>) -> Command {
@@ -286,8 +349,12 @@ impl Driver for OnnxDriver {
                 (t.clamp(0.0, 1.0), (-t).clamp(0.0, 1.0))
             }
         };
+        let left = match p.steering_positive {
+            SteeringSide::Left => raw,
+            SteeringSide::Right => -raw,
+        };
         Command {
-            steering_rad: raw.clamp(-1.0, 1.0) * self.max_steering_rad,
+            steering_rad: left.clamp(-1.0, 1.0) * self.max_steering_rad,
             throttle,
             brake,
         }
@@ -303,7 +370,7 @@ mod tests {
     use super::*;
     use crate::driver::dave2::{embedded_weights, Dave2Driver, Dave2DriverParams};
     use crate::sim::{simulate, Outcome, StopReason};
-    use crate::vision::Dave2Net;
+    use crate::vision::{CameraParams, Dave2Net};
     use std::path::PathBuf;
 
     fn fixture(name: &str) -> PathBuf {
@@ -339,7 +406,8 @@ mod tests {
         let road = bend();
         let scene = RoadScene::new(&road);
         let camera = Camera::default();
-        let mut pre = Preprocessor::new(input, 0, 0, ColourSpace::Yuv, PixelScaling::Raw).unwrap();
+        let mut pre =
+            Preprocessor::new(input, [200, 66], 0, 0, ColourSpace::Yuv, PixelScaling::Raw).unwrap();
         let mut values = Vec::new();
         let mut compared = 0;
         for i in 0..40 {
@@ -393,7 +461,8 @@ mod tests {
         });
         let road = bend();
         let frame = camera.render_rgb(&RoadScene::new(&road), [102.0, 20.0], 1.5);
-        let mut pre = Preprocessor::new(input, 4, 0, ColourSpace::Yuv, PixelScaling::Raw).unwrap();
+        let mut pre =
+            Preprocessor::new(input, [32, 16], 4, 0, ColourSpace::Yuv, PixelScaling::Raw).unwrap();
         let mut values = Vec::new();
         pre.prepare(&frame, &mut values);
         let u = &values[16 * 32..2 * 16 * 32];

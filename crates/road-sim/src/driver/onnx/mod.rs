@@ -1,12 +1,15 @@
 //! `--oracle onnx:FILE`: a camera network in ONNX drives wogan's car, run inside the binary by
-//! tract, under the contract of the competition's DAVE-2 executor (its crop, resize, colour space
-//! and throttle rule by default; each a setting).
+//! tract, under a named contract ([`Contract`]: the competition's DAVE-2 executor's by default,
+//! or the Udacity course's): the camera, crop, resize, colour space, steering and throttle rule,
+//! each a setting.
 
+mod contract;
 mod driver;
 mod model;
 mod preprocessing;
 mod throttle;
 
+pub use contract::{CameraSetting, Contract, SteeringSide};
 pub use driver::{OnnxConfig, OnnxDriver, OnnxParams, PRESET};
 pub use model::{
     InputShape, Layout, ModelState, OnnxError, OnnxModel, MAX_MODEL_BYTES, MAX_SIDE, MIN_SIDE,

@@ -1,10 +1,11 @@
 //! From the camera's frame to the model's input tensor, as the competition's DAVE-2 executor
 //! prepares its camera image (`self_driving/image_processing.py` of se2p/tool-competition-av): crop
-//! rows off the top and bottom, resize back to the model's size (bilinear: OpenCV's default, the
+//! rows off the top and bottom, resize to the model's size (bilinear: OpenCV's default, the
 //! interpolation the competition's call ends up with, in OpenCV's fixed point), convert RGB to
 //! YUV (OpenCV's 8-bit conversion), then scale the bytes as the model expects and lay them out
-//! NCHW or NHWC. Both agree byte for byte with the competition's code run with OpenCV (vectors in
-//! tests/reference/dave2_contract.json).
+//! NCHW or NHWC. Both agree byte for byte with the competition's code and the Udacity course's
+//! (whose crop leaves 75 of 320 x 160 and whose resize shrinks both ways, to 200 x 66) run with
+//! OpenCV (vectors in tests/reference/dave2_contract.json and udacity_contract.json).
 //!
 //! The competition feeds the bytes unscaled (its Keras model normalises inside the graph), so
 //! [`PixelScaling::Raw`] is the default. A 1-channel model sees the camera's gray frame (the luma
@@ -60,11 +61,12 @@ pub fn rgb_to_yuv([r, g, b]: [u8; 3]) -> [u8; 3] {
     [y as u8, chroma(b - y, 8061), chroma(r - y, 14369)]
 }
 
-/// One output row of the vertical resize: two source rows and their weights in 2048ths.
+/// One output row or column of the resize: two source rows (columns) and their weights in
+/// 2048ths.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct RowBlend {
-    top: usize,
-    bottom: usize,
+struct Blend {
+    first: usize,
+    second: usize,
     weights: [i32; 2],
 }
 
@@ -72,69 +74,74 @@ struct RowBlend {
 #[derive(Debug, Clone)]
 pub struct Preprocessor {
     shape: InputShape,
+    /// The camera frame's width and height, pixels.
+    frame_size: [usize; 2],
     crop_top: usize,
     colour: ColourSpace,
     scaling: PixelScaling,
-    /// Per output row, where it comes from in the cropped frame (empty: no crop, no resize).
-    rows: Vec<RowBlend>,
+    /// Per output row and column, where it comes from in the cropped frame (both empty: the
+    /// cropped frame is the model's size, no resize).
+    rows: Vec<Blend>,
+    columns: Vec<Blend>,
+    /// A cropped row resized across, in 2048ths (OpenCV's horizontal pass), per source row.
+    across: Vec<Vec<i32>>,
     /// The resized frame.
     resized: Vec<u8>,
 }
 
 impl Preprocessor {
-    /// For a model taking `shape` (the camera renders at its height and width), cropping
-    /// `crop_top` and `crop_bottom` rows; `None` when they leave no row.
+    /// For a model taking `shape` from a camera rendering `frame_size` (width, height) frames,
+    /// cropping `crop_top` and `crop_bottom` rows; `None` when they leave no row.
     pub fn new(
         shape: InputShape,
+        frame_size: [usize; 2],
         crop_top: usize,
         crop_bottom: usize,
         colour: ColourSpace,
         scaling: PixelScaling,
     ) -> Option<Self> {
-        let kept = shape
-            .height
+        let [frame_width, frame_height] = frame_size;
+        let kept = frame_height
             .checked_sub(crop_top)?
             .checked_sub(crop_bottom)?;
-        if kept == 0 {
+        if kept == 0 || frame_width == 0 {
             return None;
         }
-        let rows = if kept == shape.height {
-            Vec::new()
+        let (rows, columns) = if kept == shape.height && frame_width == shape.width {
+            (Vec::new(), Vec::new())
         } else {
-            vertical_blends(kept, shape.height)
+            (blends(kept, shape.height), blends(frame_width, shape.width))
         };
         Some(Self {
             shape,
+            frame_size,
             crop_top,
             colour,
             scaling,
             rows,
+            columns,
+            across: vec![Vec::new(); kept],
             resized: Vec::new(),
         })
     }
 
-    /// Writes the model's input for the camera's `frame` (the model's height and width, and its
+    /// The camera frame's width and height this preprocessor takes.
+    pub fn frame_size(&self) -> [usize; 2] {
+        self.frame_size
+    }
+
+    /// Writes the model's input for the camera's `frame` (the camera's size, and the model's
     /// channels: gray for 1, RGB for 3) into `out`.
     pub fn prepare(&mut self, frame: &Frame, out: &mut Vec<f32>) {
         let (h, w, c) = (self.shape.height, self.shape.width, self.shape.channels);
-        debug_assert_eq!((frame.height, frame.width, frame.channels), (h, w, c));
-        let stride = w * c;
+        debug_assert_eq!(
+            [frame.width, frame.height, frame.channels],
+            [self.frame_size[0], self.frame_size[1], c]
+        );
         let pixels: &[u8] = if self.rows.is_empty() {
-            &frame.data
+            &frame.data[self.crop_top * w * c..][..h * w * c]
         } else {
-            let cropped = &frame.data[self.crop_top * stride..];
-            self.resized.clear();
-            for blend in &self.rows {
-                let top = &cropped[blend.top * stride..(blend.top + 1) * stride];
-                let bottom = &cropped[blend.bottom * stride..(blend.bottom + 1) * stride];
-                let [wt, wb] = blend.weights;
-                // OpenCV's fixed point on x86 (its SIMD path): rows in 128ths, products in
-                // 65536ths dropped, the sum rounded to quarters.
-                self.resized.extend(top.iter().zip(bottom).map(|(&a, &b)| {
-                    let (a, b) = (i32::from(a) * 128, i32::from(b) * 128);
-                    ((((a * wt) >> 16) + ((b * wb) >> 16) + 2) >> 2).clamp(0, 255) as u8
-                }));
-            }
+            self.resize(frame);
             &self.resized
         };
         out.clear();
@@ -162,12 +169,50 @@ impl Preprocessor {
             }
         }
     }
+
+    /// The cropped frame resized to the model's size into `self.resized`, as OpenCV's
+    /// `INTER_LINEAR` resizes bytes on x86: each source row resized across into 2048ths, then
+    /// rows blended in its fixed point (its SIMD path: rows in 128ths, products in 65536ths
+    /// dropped, the sum rounded to quarters).
+    fn resize(&mut self, frame: &Frame) {
+        let c = self.shape.channels;
+        let stride = frame.width * c;
+        let cropped = &frame.data[self.crop_top * stride..];
+        for across in &mut self.across {
+            across.clear();
+        }
+        for blend in &self.rows {
+            for r in [blend.first, blend.second] {
+                if !self.across[r].is_empty() {
+                    continue;
+                }
+                let row = &cropped[r * stride..(r + 1) * stride];
+                let across = &mut self.across[r];
+                for column in &self.columns {
+                    let [a0, a1] = column.weights;
+                    for k in 0..c {
+                        let s0 = i32::from(row[column.first * c + k]);
+                        let s1 = i32::from(row[column.second * c + k]);
+                        across.push(s0 * a0 + s1 * a1);
+                    }
+                }
+            }
+        }
+        self.resized.clear();
+        for blend in &self.rows {
+            let [wt, wb] = blend.weights;
+            let (top, bottom) = (&self.across[blend.first], &self.across[blend.second]);
+            self.resized.extend(top.iter().zip(bottom).map(|(&a, &b)| {
+                (((((a >> 4) * wt) >> 16) + (((b >> 4) * wb) >> 16) + 2) >> 2).clamp(0, 255) as u8
+            }));
+        }
+    }
 }
 
-/// Bilinear rows for resizing `from` rows to `to` rows as OpenCV's `INTER_LINEAR` does for
-/// bytes: pixel centres aligned (`y = (r + 0.5) · from / to − 0.5`, in f32), clamped at the
-/// edges, each weight rounded to 2048ths.
-fn vertical_blends(from: usize, to: usize) -> Vec<RowBlend> {
+/// Bilinear taps for resizing `from` pixels to `to` along one axis as OpenCV's `INTER_LINEAR`
+/// does for bytes: pixel centres aligned (`x = (i + 0.5) · from / to − 0.5`, in f32), clamped at
+/// the edges, each weight rounded to 2048ths.
+fn blends(from: usize, to: usize) -> Vec<Blend> {
     let scale = 1.0 / (to as f64 / from as f64);
     let fixed = |w: f32| (w * 2048.0).round_ties_even() as i32;
     (0..to)
@@ -175,19 +220,19 @@ fn vertical_blends(from: usize, to: usize) -> Vec<RowBlend> {
             let y = ((r as f64 + 0.5) * scale - 0.5) as f32;
             let floor = y.floor();
             let mut frac = y - floor;
-            let mut top = floor as i64;
-            if top < 0 {
-                top = 0;
+            let mut first = floor as i64;
+            if first < 0 {
+                first = 0;
                 frac = 0.0;
             }
-            let mut top = top as usize;
-            if top >= from - 1 {
-                top = from - 1;
+            let mut first = first as usize;
+            if first >= from - 1 {
+                first = from - 1;
                 frac = 0.0;
             }
-            RowBlend {
-                top,
-                bottom: (top + 1).min(from - 1),
+            Blend {
+                first,
+                second: (first + 1).min(from - 1),
                 weights: [fixed(1.0 - frac), fixed(frac)],
             }
         })
@@ -247,13 +292,76 @@ mod tests {
         };
         assert_eq!(vectors.images.len(), 3);
         for image in vectors.images {
-            let mut p =
-                Preprocessor::new(shape, 80, 1, ColourSpace::Yuv, PixelScaling::Raw).unwrap();
+            let mut p = Preprocessor::new(
+                shape,
+                [320, 160],
+                80,
+                1,
+                ColourSpace::Yuv,
+                PixelScaling::Raw,
+            )
+            .unwrap();
             let mut out = Vec::new();
             p.prepare(&pattern(&image.pattern), &mut out);
             for (r, c, want) in image.samples {
                 let got: Vec<u8> = (0..3).map(|k| out[(r * 320 + c) * 3 + k] as u8).collect();
                 assert_eq!(got, want, "{} at row {r}, column {c}", image.pattern);
+            }
+        }
+    }
+
+    #[derive(serde::Deserialize)]
+    struct WholeImages {
+        images: Vec<WholeImage>,
+    }
+
+    #[derive(serde::Deserialize)]
+    struct WholeImage {
+        pattern: String,
+        /// Each row's YUV bytes in hex.
+        rows: Vec<String>,
+    }
+
+    /// The Udacity course's `preprocess` (crop rows 60 to 135, resize to 200 x 66, RGB to YUV)
+    /// against its own answers, every byte: the resize shrinks both ways here.
+    #[test]
+    fn matches_the_udacity_courses_preprocessing() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../tests/reference/udacity_contract.json"
+        );
+        let vectors: WholeImages =
+            serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let shape = InputShape {
+            layout: Layout::Nhwc,
+            channels: 3,
+            height: 66,
+            width: 200,
+        };
+        assert_eq!(vectors.images.len(), 2);
+        for image in vectors.images {
+            let mut p = Preprocessor::new(
+                shape,
+                [320, 160],
+                60,
+                25,
+                ColourSpace::Yuv,
+                PixelScaling::Raw,
+            )
+            .unwrap();
+            let mut out = Vec::new();
+            p.prepare(&pattern(&image.pattern), &mut out);
+            assert_eq!(image.rows.len(), 66);
+            for (r, hex) in image.rows.iter().enumerate() {
+                let want: Vec<u8> = (0..hex.len())
+                    .step_by(2)
+                    .map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap())
+                    .collect();
+                let got: Vec<u8> = out[r * 600..(r + 1) * 600]
+                    .iter()
+                    .map(|&v| v as u8)
+                    .collect();
+                assert_eq!(got, want, "{} row {r}", image.pattern);
             }
         }
     }
@@ -271,7 +379,7 @@ mod tests {
             .chunks_exact_mut(3)
             .for_each(|p| p.copy_from_slice(&[10, 20, 30]));
         let mut nchw = Vec::new();
-        Preprocessor::new(shape, 0, 0, ColourSpace::Rgb, PixelScaling::Unit)
+        Preprocessor::new(shape, [8, 8], 0, 0, ColourSpace::Rgb, PixelScaling::Unit)
             .unwrap()
             .prepare(&f, &mut nchw);
         assert_eq!(
@@ -283,9 +391,16 @@ mod tests {
             ..shape
         };
         let mut nhwc = Vec::new();
-        Preprocessor::new(nhwc_shape, 0, 0, ColourSpace::Rgb, PixelScaling::Symmetric)
-            .unwrap()
-            .prepare(&f, &mut nhwc);
+        Preprocessor::new(
+            nhwc_shape,
+            [8, 8],
+            0,
+            0,
+            ColourSpace::Rgb,
+            PixelScaling::Symmetric,
+        )
+        .unwrap()
+        .prepare(&f, &mut nhwc);
         assert_eq!(
             &nhwc[..3],
             &[10.0 / 127.5 - 1.0, 20.0 / 127.5 - 1.0, 30.0 / 127.5 - 1.0]
@@ -297,12 +412,16 @@ mod tests {
         let mut g = Frame::new(8, 8, 1);
         g.data = (0..64).collect();
         let mut out = Vec::new();
-        Preprocessor::new(gray, 0, 0, ColourSpace::Yuv, PixelScaling::Raw)
+        Preprocessor::new(gray, [8, 8], 0, 0, ColourSpace::Yuv, PixelScaling::Raw)
             .unwrap()
             .prepare(&g, &mut out);
         assert_eq!(out, (0..64).map(|v| v as f32).collect::<Vec<_>>());
-        assert!(Preprocessor::new(gray, 4, 4, ColourSpace::Yuv, PixelScaling::Raw).is_none());
-        assert!(Preprocessor::new(gray, 9, 0, ColourSpace::Yuv, PixelScaling::Raw).is_none());
+        assert!(
+            Preprocessor::new(gray, [8, 8], 4, 4, ColourSpace::Yuv, PixelScaling::Raw).is_none()
+        );
+        assert!(
+            Preprocessor::new(gray, [8, 8], 9, 0, ColourSpace::Yuv, PixelScaling::Raw).is_none()
+        );
     }
 
     #[test]
