@@ -5,6 +5,7 @@ mod campaign;
 mod ci;
 mod common;
 mod controller;
+mod dataset;
 mod executor;
 mod export;
 mod fuzz;

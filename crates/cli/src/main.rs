@@ -28,8 +28,8 @@ mod suite_file;
 mod value_parsers;
 
 use commands::{
-    camera, export, replay, report as report_command, run, sample, simulate, suite, train_driver,
-    validate, Status,
+    camera, dataset, export, replay, report as report_command, run, sample, simulate, suite,
+    train_driver, validate, Status,
 };
 
 use clap::{Parser, Subcommand};
@@ -59,6 +59,8 @@ enum Command {
     TrainDriver(train_driver::TrainDriverArgs),
     /// Write what the dave2-proxy camera sees along a road, as PNG.
     Camera(camera::CameraArgs),
+    /// Record frames and steering labels from a driver, in the Udacity simulator's layout.
+    Dataset(dataset::DatasetArgs),
     /// Write a Markdown report with SVG pictures of runs, or a picture of one simulation trace.
     Report(report_command::ReportArgs),
     /// Write a run in the SBST competition's result layout.
@@ -79,6 +81,7 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::TrainDriver(args) => train_driver::run(&args),
         Command::Camera(args) => camera::run(&args),
+        Command::Dataset(args) => dataset::run(&args),
         Command::Report(args) => report_command::run(&args),
         Command::Export(args) => export::run(&args),
         Command::Replay(args) => replay::run(&args),

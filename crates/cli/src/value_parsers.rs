@@ -72,6 +72,26 @@ pub fn distance_along_m(text: &str) -> Result<f64, String> {
     }
 }
 
+/// Frames per simulated second, from 0.1 to 60 (the simulator's sampling).
+pub fn record_hz(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if (0.1..=60.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "expected frames per second from 0.1 to 60, got {text:?}"
+        )),
+    }
+}
+
+/// A largest road curvature in 1/m, above 0 and at most 0.3 (a turn radius above 3.3 m).
+pub fn max_curvature_per_m(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v > 0.0 && v <= 0.3 => Ok(v),
+        _ => Err(format!(
+            "expected a curvature in 1/m above 0 and at most 0.3, got {text:?}"
+        )),
+    }
+}
+
 /// A share from 0 to 1, both included.
 pub fn share(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {

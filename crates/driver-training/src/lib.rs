@@ -6,6 +6,7 @@ pub mod behaviour_cloning;
 pub mod dave2_model;
 
 pub use behaviour_cloning::{
-    train, CloningConfig, CloningProgress, CloningReport, Diverged, BUILT_IN_STUDENT_TEACHER,
+    random_valid_roads, train, CloningConfig, CloningProgress, CloningReport, Diverged,
+    BUILT_IN_STUDENT_TEACHER,
 };
 pub use dave2_model::{predict_burn, Dave2, Dave2Trainer};

@@ -2,6 +2,7 @@
 //! how it ended ([`Status`]); `main` turns that into the exit status.
 
 pub mod camera;
+pub mod dataset;
 pub mod export;
 pub mod replay;
 pub mod report;

@@ -18,7 +18,7 @@ pub use beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
 pub use config::{DriverConfig, DriverKind, UnknownDriver};
 pub use controller::{ControllerConfig, ControllerParams};
 pub use dave2::{Dave2Driver, Dave2DriverParams};
-pub use onnx::{Contract, OnnxConfig, OnnxError, OnnxParams};
+pub use onnx::{Contract, OnnxConfig, OnnxError, OnnxParams, SteeringSide};
 pub use pedals::pedals;
 pub use preset::DriverPreset;
 
