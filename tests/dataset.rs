@@ -31,29 +31,26 @@ fn assert_valid(dir: &Path) -> usize {
     rows.len()
 }
 
+/// Makes a dataset in `out` with `options`, which must succeed.
+fn make(out: &Path, options: &[&str]) {
+    let made = wogan(
+        &[&["dataset", "--out", out.to_str().unwrap()][..], options].concat(),
+        "",
+    );
+    assert_eq!(
+        made.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+}
+
 #[test]
 fn a_dataset_is_the_simulators_layout_and_the_same_for_the_same_seed() {
     let dir = scratch_dir("dataset");
     let (a, b) = (dir.join("a"), dir.join("b"));
     for out in [&a, &b] {
-        let made = wogan(
-            &[
-                "dataset",
-                "--out",
-                out.to_str().unwrap(),
-                "--frames",
-                "40",
-                "--seed",
-                "2",
-            ],
-            "",
-        );
-        assert_eq!(
-            made.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&made.stderr)
-        );
+        make(out, &["--frames", "40", "--seed", "2"]);
     }
     assert_eq!(assert_valid(&a), 40);
     assert_eq!(rows(&a), rows(&b));
@@ -78,18 +75,7 @@ fn a_dataset_is_the_simulators_layout_and_the_same_for_the_same_seed() {
     );
     // Another seed, other roads.
     let c = dir.join("c");
-    wogan(
-        &[
-            "dataset",
-            "--out",
-            c.to_str().unwrap(),
-            "--frames",
-            "40",
-            "--seed",
-            "3",
-        ],
-        "",
-    );
+    make(&c, &["--frames", "40", "--seed", "3"]);
     assert_ne!(rows(&a), rows(&c));
 
     // A road file's roads, a non-empty folder and bad settings.
@@ -104,24 +90,7 @@ fn a_dataset_is_the_simulators_layout_and_the_same_for_the_same_seed() {
         &roads.lines().take(2).collect::<Vec<_>>().join("\n"),
     );
     let d = dir.join("d");
-    let made = wogan(
-        &[
-            "dataset",
-            "--out",
-            d.to_str().unwrap(),
-            "--frames",
-            "200",
-            "--roads",
-            &file,
-        ],
-        "",
-    );
-    assert_eq!(
-        made.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&made.stderr)
-    );
+    make(&d, &["--frames", "200", "--roads", &file]);
     assert_eq!(assert_valid(&d), 200);
     for (args, says) in [
         (

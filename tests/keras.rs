@@ -7,35 +7,21 @@
 //! target/onnx-venv. Without it the test says so and checks nothing, unless WOGAN_REQUIRE_ONNX_VENV
 //! is set (CI sets it, after running setup.sh), when it fails.
 
-use crate::common::{records, scratch_dir, test_records, wogan, write_file};
-use std::path::{Path, PathBuf};
+use crate::common::{records, scratch_dir, test_records, venv_python, wogan, write_file};
 use std::process::Command;
 
 /// The checkout.
 const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 
-/// The venv's Python, or `None` (said so) when setup.sh has not made it.
-fn python() -> Option<PathBuf> {
-    let python = Path::new(REPO).join("target/onnx-venv/bin/python");
-    if python.exists() {
-        return Some(python);
-    }
-    assert!(
-        std::env::var_os("WOGAN_REQUIRE_ONNX_VENV").is_none(),
-        "the converter's venv is required (WOGAN_REQUIRE_ONNX_VENV is set) but {} is missing: \
-         run examples/onnx/setup.sh",
-        python.display()
-    );
-    eprintln!(
-        "no {} (examples/onnx/setup.sh makes it): the Keras test is skipped",
-        python.display()
-    );
-    None
-}
-
 #[test]
 fn a_keras_dave2_from_the_udacity_course_drives_under_its_contract() {
-    let Some(python) = python() else { return };
+    let Some(python) = venv_python(
+        "onnx-venv",
+        "examples/onnx/setup.sh",
+        "WOGAN_REQUIRE_ONNX_VENV",
+    ) else {
+        return;
+    };
     let script = |name: &str| format!("{REPO}/examples/onnx/{name}");
     let check = Command::new(&python)
         .arg(script("check_keras_to_onnx.py"))

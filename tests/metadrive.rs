@@ -7,10 +7,12 @@
 //! venv the test says so and checks nothing, unless WOGAN_REQUIRE_METADRIVE is set (CI sets it, after
 //! running setup.sh), when it fails.
 
-use crate::common::{scratch_dir, signal_and_wait, spawn, test_records, watchdog, wogan};
+use crate::common::{
+    scratch_dir, signal_and_wait, spawn, test_records, venv_python, watchdog, wogan,
+};
 use serde_json::Value;
 use std::io::{BufReader, Read, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::sync::atomic::Ordering;
 use std::time::Duration;
@@ -19,24 +21,6 @@ use std::time::Duration;
 const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 /// The executor script, as its README names it; also what finds its processes.
 const EXECUTOR: &str = "examples/metadrive/executor.py";
-
-/// The venv's Python, or `None` (said so) when setup.sh has not made it.
-fn python() -> Option<PathBuf> {
-    let python = Path::new(REPO).join("target/metadrive-venv/bin/python");
-    if python.exists() {
-        return Some(python);
-    }
-    assert!(
-        std::env::var_os("WOGAN_REQUIRE_METADRIVE").is_none(),
-        "MetaDrive is required (WOGAN_REQUIRE_METADRIVE is set) but {} is missing: run \
-         examples/metadrive/setup.sh",
-        python.display()
-    );
-    eprintln!(
-        "no MetaDrive venv (examples/metadrive/setup.sh makes it): the MetaDrive test is skipped"
-    );
-    None
-}
 
 /// The executor script's full path: how the test starts it, and so how it finds its processes.
 fn executor_script() -> String {
@@ -59,7 +43,13 @@ fn executors_left() -> String {
 
 #[test]
 fn metadrive_drives_roads_searches_and_leaves_no_process() {
-    let Some(python) = python() else { return };
+    let Some(python) = venv_python(
+        "metadrive-venv",
+        "examples/metadrive/setup.sh",
+        "WOGAN_REQUIRE_METADRIVE",
+    ) else {
+        return;
+    };
     let script = executor_script();
     let command = format!("cmd:{} {script} --policy idm {MARK}", python.display());
 

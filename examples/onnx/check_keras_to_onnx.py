@@ -94,7 +94,7 @@ def keras_forward(path: str, image: np.ndarray, affine: tuple) -> np.ndarray:
                 x = activation(x @ w[0] + w[1], c.get("activation", "linear"))
             elif kind == "Activation":
                 x = activation(x, c["activation"])
-            elif kind in ("Dropout", "SpatialDropout2D"):
+            elif kind in ("Dropout", "SpatialDropout2D", "InputLayer"):
                 pass
             else:
                 raise ValueError(f"the check's forward pass has no {kind}")

@@ -41,44 +41,50 @@ class SimulateError(RuntimeError):
     """The child ended or answered something that is not the answer to the road sent."""
 
 
-class SimulateChild:
-    """One `wogan simulate --execution-data` process answering one road at a time."""
+class LineChild:
+    """A child process answering one JSON line with one JSON line, a road at a time: `ask` sends
+    a road and checks the answer names it (`echo`: the answer's field that does)."""
 
-    def __init__(self, binary, oracle, oob_tolerance, speed_limit, map_size):
-        command = [binary, "simulate", "--execution-data", "--oracle", oracle,
-                   "--oob-tolerance", str(oob_tolerance), "--speed-limit", str(speed_limit),
-                   "--map-size", str(map_size)]
+    echo = None
+    who = "the child"
+
+    def __init__(self, command):
         self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                         text=True, bufsize=1)
         self.lines = 0
 
-    def drive(self, road_points):
-        """The answer to one road (a dict with outcome, max_bolp, sim_time_s, execution_data...)."""
-        road = {"road_points": [[float(x), float(y)] for x, y in road_points]}
+    def send(self, message):
+        self.process.stdin.write(json.dumps(message) + "\n")
+        self.process.stdin.flush()
+
+    def ask(self, request):
+        """The answer to `request`, or SimulateError saying what came instead."""
+        self.lines += 1
         try:
-            self.process.stdin.write(json.dumps(road) + "\n")
-            self.process.stdin.flush()
+            self.send(request(self.lines))
             line = self.process.stdout.readline()
         except (BrokenPipeError, ValueError):
             line = ""
-        self.lines += 1
         if not line:
             self.process.poll()
-            raise SimulateError(f"wogan simulate ended before answering road {self.lines} "
+            raise SimulateError(f"{self.who} ended before answering road {self.lines} "
                                 f"(exit status {self.process.returncode})")
         try:
             answer = json.loads(line)
         except ValueError:
             answer = None
-        if not isinstance(answer, dict) or answer.get("line") != self.lines:
-            raise SimulateError(f"wogan simulate answered road {self.lines} with {line[:200]!r}")
+        if not isinstance(answer, dict) or answer.get(self.echo) != self.lines:
+            raise SimulateError(f"{self.who} answered road {self.lines} with {line[:200]!r}")
         return answer
 
-    def close(self):
-        """Ends the child: end of input, then a kill if it has not exited within 10 s."""
+    def close(self, last=None):
+        """Ends the child: `last` (if any) and end of input, then a kill if it has not exited
+        within 10 s."""
         try:
+            if last is not None:
+                self.send(last)
             self.process.stdin.close()
-        except BrokenPipeError:
+        except (BrokenPipeError, ValueError):
             pass
         try:
             self.process.wait(timeout=10)
@@ -88,61 +94,53 @@ class SimulateChild:
         self.process.stdout.close()
 
 
-class ExecutorChild:
+def road_points_of(road_points):
+    return [[float(x), float(y)] for x, y in road_points]
+
+
+class SimulateChild(LineChild):
+    """One `wogan simulate --execution-data` process (a streaming filter: each answer names its
+    input line)."""
+
+    echo = "line"
+    who = "wogan simulate"
+
+    def __init__(self, binary, oracle, oob_tolerance, speed_limit, map_size):
+        super().__init__([binary, "simulate", "--execution-data", "--oracle", oracle,
+                          "--oob-tolerance", str(oob_tolerance), "--speed-limit", str(speed_limit),
+                          "--map-size", str(map_size)])
+
+    def drive(self, road_points):
+        """The answer to one road (a dict with outcome, max_bolp, sim_time_s, execution_data...)."""
+        return self.ask(lambda _: {"road_points": road_points_of(road_points)})
+
+
+class ExecutorChild(LineChild):
     """One executor speaking wogan's executor protocol, version 2 (docs/reference.md), that
     answers with the pipeline's `execution_data` (examples/metadrive/executor.py
-    `--execution-data`): hello once, then one road, one answer. It is charged as wogan charges an
-    executor: the answer's `sim_time_s`."""
+    `--execution-data`): hello once, then one road, one answer naming it by `id`. It is charged
+    as wogan charges an executor: the answer's `sim_time_s`."""
+
+    echo = "id"
+    who = "the executor"
 
     def __init__(self, command, oob_tolerance, speed_limit, map_size):
-        self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                        text=True, bufsize=1)
-        self.lines = 0
-        hello = {"type": "hello", "protocol": "wogan-executor", "version": 2,
-                 "units": "metres, seconds", "map_size_m": float(map_size),
-                 "oob_tolerance": float(oob_tolerance), "speed_limit_kmh": float(speed_limit)}
-        self.process.stdin.write(json.dumps(hello) + "\n")
-        self.process.stdin.flush()
+        super().__init__(command)
+        self.send({"type": "hello", "protocol": "wogan-executor", "version": 2,
+                   "units": "metres, seconds", "map_size_m": float(map_size),
+                   "oob_tolerance": float(oob_tolerance), "speed_limit_kmh": float(speed_limit)})
 
     def drive(self, road_points):
         """The answer to one road (a dict with outcome, reason, max_bolp, sim_time_s,
         execution_data...)."""
-        self.lines += 1
-        road = {"type": "road", "id": self.lines,
-                "road_points": [[float(x), float(y)] for x, y in road_points]}
-        try:
-            self.process.stdin.write(json.dumps(road) + "\n")
-            self.process.stdin.flush()
-            line = self.process.stdout.readline()
-        except (BrokenPipeError, ValueError):
-            line = ""
-        if not line:
-            self.process.poll()
-            raise SimulateError(f"the executor ended before answering road {self.lines} "
-                                f"(exit status {self.process.returncode})")
-        try:
-            answer = json.loads(line)
-        except ValueError:
-            answer = None
-        if not isinstance(answer, dict) or answer.get("id") != self.lines:
-            raise SimulateError(f"the executor answered road {self.lines} with {line[:200]!r}")
+        answer = self.ask(lambda n: {"type": "road", "id": n,
+                                     "road_points": road_points_of(road_points)})
         if answer.get("outcome") == "ERROR":
             answer.setdefault("message", answer.get("error"))
         return answer
 
     def close(self):
-        """Ends the executor: `bye` and end of input, then a kill if it has not exited in 10 s."""
-        try:
-            self.process.stdin.write(json.dumps({"type": "bye"}) + "\n")
-            self.process.stdin.close()
-        except (BrokenPipeError, ValueError):
-            pass
-        try:
-            self.process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            self.process.kill()
-            self.process.wait()
-        self.process.stdout.close()
+        super().close({"type": "bye"})
 
 
 def pipeline_records(execution_data):

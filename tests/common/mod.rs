@@ -165,3 +165,25 @@ pub fn entry_names(dir: &std::path::Path) -> Vec<String> {
     names.sort();
     names
 }
+
+/// The Python of the venv `examples/EXAMPLE/setup.sh` makes (`target/VENV/bin/python`), or `None`,
+/// said so, when it is missing: a dependency that is not the build's. Where the environment
+/// variable `require` is set (CI sets it after running the setup) a missing venv fails the test.
+pub fn venv_python(venv: &str, setup: &str, require: &str) -> Option<PathBuf> {
+    let python = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../target"))
+        .join(venv)
+        .join("bin/python");
+    if python.exists() {
+        return Some(python);
+    }
+    assert!(
+        std::env::var_os(require).is_none(),
+        "{require} is set but {} is missing: run {setup}",
+        python.display()
+    );
+    eprintln!(
+        "no {} ({setup} makes it): the test is skipped",
+        python.display()
+    );
+    None
+}

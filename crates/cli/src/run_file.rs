@@ -318,7 +318,12 @@ fn read_header(header: &Header) -> RunHeader {
     let algorithm = header.algorithm.clone();
     RunHeader {
         key: RunKey {
-            driver: header.driver.name().to_owned(),
+            // An executor's run drove no driver of wogan's: the simulator is the executor's.
+            driver: if header.config.get("executor").is_some_and(Value::is_string) {
+                "executor".to_owned()
+            } else {
+                header.driver.name().to_owned()
+            },
             fitness: header.fitness.name().to_owned(),
             oob_tolerance: text(oob),
             speed_limit_kmh: text(speed),
