@@ -632,6 +632,18 @@ def tests_per_wall_minute(paths):
     return statistics.mean(rates) if rates else None
 
 
+def finished(paths):
+    """The runs among `paths` that ended with their summary (a campaign still running leaves one
+    that has not)."""
+    def ends_with_summary(path):
+        with open(path, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            f.seek(max(f.tell() - 4096, 0))
+            last = f.read().decode("utf-8", "replace").rstrip("\n").rsplit("\n", 1)[-1]
+        return '"type":"summary"' in last
+    return [p for p in paths if ends_with_summary(p)]
+
+
 def metadrive_section():
     out()
     out("## A real simulator: MetaDrive")
@@ -648,7 +660,7 @@ def metadrive_section():
         out()
         out("No runs on this machine.")
     for policy in policies:
-        groups = [(name, runs_of(f"target/metadrive/{policy}.{tag}")) for tag, name in METADRIVE_ALGORITHMS]
+        groups = [(name, finished(runs_of(f"target/metadrive/{policy}.{tag}"))) for tag, name in METADRIVE_ALGORITHMS]
         out()
         out(f"### `--policy {policy}`")
         out()
