@@ -10,9 +10,10 @@
 # ALGORITHMS (default "random wogan preset-sbst"): random search, the paper's WOGAN, `--preset
 # sbst`; "jobs2-ALGORITHM" runs ALGORITHM with `--jobs 2` (two MetaDrive executors). The driver's
 # conditions are wogan's defaults (0.85 tolerance, 70 km/h), sent to the executor in `hello`. A run
-# whose file ends with its summary is kept (delete it to make it again). WOGAN=path uses another
-# binary (default target/release/wogan, built here). OUT=folder writes there instead (the
-# `--jobs 2` speed-up is measured in target/metadrive-speed/, with nothing else running).
+# whose file ends with its summary is kept (delete it to make it again), unless a signal cut it
+# short. WOGAN=path uses another binary (default target/release/wogan, built here). OUT=folder
+# writes there instead (the `--jobs 2` speed-up is measured in target/metadrive-speed/, with
+# nothing else running).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 policy=${1:-idm}
@@ -39,7 +40,8 @@ for algorithm in $algorithms; do
   esac
   for seed in $seeds; do
     file="$out/$policy.$algorithm.$seed.jsonl"
-    if [ -f "$file" ] && tail -n 1 "$file" | grep -q '"type":"summary"'; then
+    # A run that ended with its summary is kept, unless a signal cut it short.
+    if [ -f "$file" ] && tail -n 1 "$file" | grep '"type":"summary"' | grep -vq '"interrupted":true'; then
       continue
     fi
     "$WOGAN" run --quiet "${options[@]}" --jobs "$jobs" --seed "$seed" \

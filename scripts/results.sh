@@ -633,14 +633,14 @@ def tests_per_wall_minute(paths):
 
 
 def finished(paths):
-    """The runs among `paths` that ended with their summary (a campaign still running leaves one
-    that has not)."""
+    """The runs among `paths` that ended with their summary and were not interrupted (a campaign
+    still running, or stopped, leaves one that has not)."""
     def ends_with_summary(path):
         with open(path, "rb") as f:
             f.seek(0, os.SEEK_END)
             f.seek(max(f.tell() - 4096, 0))
             last = f.read().decode("utf-8", "replace").rstrip("\n").rsplit("\n", 1)[-1]
-        return '"type":"summary"' in last
+        return '"type":"summary"' in last and '"interrupted":true' not in last
     return [p for p in paths if ends_with_summary(p)]
 
 
