@@ -337,7 +337,10 @@ fn a_run_an_executor_drove_reads_back_in_a_report() {
             .lines()
             .find(|l| l.starts_with("| wogan"))
             .unwrap_or_default();
-        assert!(row.contains("/ executor /"), "the driver is the executor's: {row}");
+        assert!(
+            row.contains("/ executor /"),
+            "the driver is the executor's: {row}"
+        );
         let distinct = if placed { "1 (1)" } else { "–" };
         assert!(
             row.contains(&format!("| 1 | 1 (1) | {distinct} |")),
