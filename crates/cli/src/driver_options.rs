@@ -200,7 +200,8 @@ fn onnx_config(
             )
         })?,
     };
-    let params = config_file::lay_over::<OnnxParams>(patch.as_ref(), contract.params(), section)?;
+    let params =
+        config_file::lay_over::<OnnxParams>(patch.as_ref(), OnnxParams::of(contract), section)?;
     params.validate().context("invalid driver settings")?;
     let config = OnnxConfig::load(model, params)?;
     Ok(DriverConfig::Onnx(config))

@@ -5,7 +5,7 @@ use super::Status;
 use crate::json_lines::{numbered_lines, open_input};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use road_sim::driver::Contract;
+use road_sim::driver::{Contract, OnnxParams};
 use road_sim::road::input::{parse_line, RoadInput};
 use road_sim::sim::start_pose;
 use road_sim::vision::{write_png, Camera, CameraParams, RoadScene};
@@ -67,7 +67,7 @@ pub fn run(args: &CameraArgs) -> Result<Status> {
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let camera = Camera::new(match args.contract {
         // A contract's camera renders at the model's size when it has none of its own.
-        Some(contract) => contract.params().camera.camera(
+        Some(contract) => OnnxParams::of(contract).camera.camera(
             CameraParams::default().width,
             CameraParams::default().height,
         ),

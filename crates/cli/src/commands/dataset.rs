@@ -25,7 +25,7 @@ use clap::Args;
 use driver_training::random_valid_roads;
 use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
-use road_sim::driver::Contract;
+use road_sim::driver::{Contract, OnnxParams};
 use road_sim::road::input::{parse_line, RoadInput};
 use road_sim::vision::{write_png, Camera, CameraParams, Frame, RoadScene};
 use road_sim::{simulate, Road, Sample, StopReason, Validator};
@@ -163,7 +163,7 @@ pub fn run(args: &DatasetArgs) -> Result<Status> {
     let mut log = std::fs::File::create(&log_path)
         .with_context(|| format!("cannot create {}", log_path.display()))?;
 
-    let params = args.contract.params();
+    let params = OnnxParams::of(args.contract);
     let [width, height] = DEFAULT_FRAME;
     let centre = params.camera.camera(width, height);
     let cameras: Vec<(&str, Camera)> = [("center", 0.0)]

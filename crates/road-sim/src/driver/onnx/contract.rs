@@ -20,16 +20,11 @@
 //!   throttle `1 − s² − (v / limit)²` with the course's limits, 25 mph and 10 mph once above it
 //!   (its simulator reports mph; the rule's ratio is the same in km/h).
 
-use super::driver::OnnxParams;
-use super::preprocessing::{ColourSpace, PixelScaling};
-use super::throttle::ThrottleRule;
 use crate::vision::CameraParams;
 use serde::{Deserialize, Serialize};
 
-/// Metres per second in a mile per hour.
-const MPH_IN_KMH: f64 = 1.609_344;
-
-/// A named contract: the defaults a config file's `driver` section starts from.
+/// A named contract: the defaults a config file's `driver` section starts from
+/// ([`super::OnnxParams::of`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Contract {
@@ -49,28 +44,6 @@ impl Contract {
         match self {
             Contract::Sbst2022 => "sbst2022",
             Contract::Udacity => "udacity",
-        }
-    }
-
-    /// The contract's settings.
-    pub fn params(self) -> OnnxParams {
-        let sbst2022 = OnnxParams::sbst2022();
-        match self {
-            Contract::Sbst2022 => sbst2022,
-            Contract::Udacity => OnnxParams {
-                contract: self,
-                camera: CameraSetting::udacity(),
-                crop_top_rows: 60,
-                crop_bottom_rows: 25,
-                colour_space: ColourSpace::Yuv,
-                pixel_scaling: PixelScaling::Raw,
-                steering_positive: SteeringSide::Right,
-                max_steering_deg: Some(25.0),
-                throttle: ThrottleRule::Competition,
-                max_speed_kmh: Some(25.0 * MPH_IN_KMH),
-                slow_down_kmh: 10.0 * MPH_IN_KMH,
-                ..sbst2022
-            },
         }
     }
 }
@@ -165,28 +138,23 @@ mod tests {
     use super::*;
 
     #[test]
-    fn sbst2022_is_todays_default_and_udacity_the_courses() {
-        assert_eq!(Contract::Sbst2022.params(), OnnxParams::default());
-        let camera = CameraSetting::default().camera(320, 160);
-        assert_eq!(
-            camera,
-            CameraParams {
-                width: 320,
-                height: 160,
-                ..CameraParams::default()
-            }
-        );
-        let u = Contract::Udacity.params();
-        assert_eq!(u.contract, Contract::Udacity);
-        let c = u.camera.camera(200, 66);
+    fn the_udacity_camera_is_the_simulators() {
+        let c = CameraSetting::udacity().camera(200, 66);
         assert_eq!(
             (c.width, c.height),
             (320, 160),
             "the course's frames, not the model's size"
         );
         assert!((c.hfov_deg - 98.21).abs() < 0.01, "{}", c.hfov_deg);
-        assert_eq!((u.crop_top_rows, u.crop_bottom_rows), (60, 25));
-        assert!((u.max_speed_kmh.unwrap() - 40.2336).abs() < 1e-9);
+        let wogan = CameraSetting::default().camera(320, 160);
+        assert_eq!(
+            wogan,
+            CameraParams {
+                width: 320,
+                height: 160,
+                ..CameraParams::default()
+            }
+        );
         for contract in Contract::ALL {
             let text = serde_json::to_string(&contract).unwrap();
             assert_eq!(text, format!("\"{}\"", contract.name()));

@@ -71,9 +71,34 @@ impl Default for OnnxParams {
     }
 }
 
+/// Kilometres per hour in a mile per hour (the Udacity simulator's speeds).
+const KMH_PER_MPH: f64 = 1.609_344;
+
 impl OnnxParams {
+    /// A contract's settings ([`super::contract`] says whose they are).
+    pub fn of(contract: Contract) -> Self {
+        let sbst2022 = Self::sbst2022();
+        match contract {
+            Contract::Sbst2022 => sbst2022,
+            Contract::Udacity => Self {
+                contract,
+                camera: CameraSetting::udacity(),
+                crop_top_rows: 60,
+                crop_bottom_rows: 25,
+                colour_space: ColourSpace::Yuv,
+                pixel_scaling: PixelScaling::Raw,
+                steering_positive: SteeringSide::Right,
+                max_steering_deg: Some(25.0),
+                throttle: ThrottleRule::Competition,
+                max_speed_kmh: Some(25.0 * KMH_PER_MPH),
+                slow_down_kmh: 10.0 * KMH_PER_MPH,
+                ..sbst2022
+            },
+        }
+    }
+
     /// The `sbst2022` contract's settings (the default).
-    pub(super) fn sbst2022() -> Self {
+    fn sbst2022() -> Self {
         Self {
             contract: Contract::Sbst2022,
             control_hz: 10.0,
@@ -422,6 +447,16 @@ mod tests {
             compared += 1;
         }
         assert_eq!(compared, 40);
+    }
+
+    #[test]
+    fn sbst2022_is_todays_default_and_udacity_the_courses() {
+        assert_eq!(OnnxParams::of(Contract::Sbst2022), OnnxParams::default());
+        let u = OnnxParams::of(Contract::Udacity);
+        assert_eq!(u.contract, Contract::Udacity);
+        assert_eq!((u.crop_top_rows, u.crop_bottom_rows), (60, 25));
+        assert_eq!(u.camera.camera(200, 66).height, 160);
+        assert!((u.max_speed_kmh.unwrap() - 40.2336).abs() < 1e-9);
     }
 
     #[test]
