@@ -65,13 +65,13 @@ pub fn run(args: &CameraArgs) -> Result<Status> {
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let proxy = CameraParams::default();
     let camera = Camera::new(match args.contract {
-        // A contract's camera renders at the model's size when it has none of its own.
-        Some(contract) => OnnxParams::of(contract).camera.camera(
-            CameraParams::default().width,
-            CameraParams::default().height,
-        ),
-        None => CameraParams::default(),
+        // A contract's camera renders at dave2-proxy's size when it has none of its own.
+        Some(contract) => OnnxParams::of(contract)
+            .camera
+            .camera(proxy.width, proxy.height),
+        None => proxy,
     });
     let scene = RoadScene::new(&road);
     if let Some(beyond) = args.at.iter().find(|&&at| at > road.length_m()) {
