@@ -5,8 +5,9 @@
 //! `outcome` (`PASS`, `FAIL` or `ERROR`; derived from the tolerance when absent), `sim_time_s`
 //! (simulated seconds, charged to the execution budget; 0 when absent), `oob_side` (`left` or
 //! `right`), `oob_point` (`[x, y]` metres: where the car centre was when it left, with `oob_side`)
-//! and `error` (text: why the road could not be driven, kept in the test record of an `ERROR`). Other fields are ignored, so `wogan simulate`'s `result` lines, which echo the input's
-//! `id`, are answers.
+//! and `error` (text: why the road could not be driven, kept in the test record of an `ERROR`).
+//! Other fields are ignored, so `wogan simulate`'s `result` lines, which echo the input's `id`, are
+//! answers.
 //!
 //! Version 2 added the answer's `id`: without it, a second line for one road could be taken for the
 //! answer to the next, and every answer after it would be one road late.
