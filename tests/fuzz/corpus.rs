@@ -166,7 +166,7 @@ pub(super) fn config_defaults(kind: DriverKind) -> Value {
     };
     json!({
         "search": RunConfig::default(),
-        "sim": kind.preset().sim_config(),
+        "sim": CompetitionSetup::of(kind).sim_config(),
         "driver": driver,
     })
 }

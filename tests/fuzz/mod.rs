@@ -50,7 +50,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use road_sim::driver::{BeamNgAiParams, Dave2DriverParams};
 use road_sim::vision::Dave2Weights;
-use road_sim::DriverKind;
+use road_sim::{CompetitionSetup, DriverKind};
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
 use std::fmt::{self, Write as _};

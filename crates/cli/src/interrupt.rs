@@ -12,7 +12,7 @@ pub fn stop_flag() -> Result<Arc<AtomicBool>> {
     ctrlc::set_handler(move || {
         handler_stop.store(true, Ordering::SeqCst);
         // A controller or executor being waited for is given up at once, not at its deadline.
-        road_sim::child_process::stop_all();
+        child_process::stop_all();
     })
     .context("cannot install the Ctrl-C handler")?;
     Ok(stop)

@@ -1,31 +1,25 @@
 //! `wogan`: finds roads on which a self-driving car's lane keeper leaves its lane.
 //!
 //! The binary only wires things together: roads, validity and simulation come from `road-sim`,
-//! search algorithms from `wogan-core`, driver training from `driver-training`. Each subcommand is
-//! one module of [`commands`]; `run` resolves what was typed into a [`plan::RunPlan`] once; every
-//! record written or read is a type of [`records`]. Results go to stdout as JSON lines, one object
-//! per line, flushed as soon as known; progress and logs go to stderr.
+//! search algorithms from `wogan-core`, driver training from `driver-training`. Its rooms:
+//! - [`commands`]: one module per subcommand, its options and what it does with them;
+//! - [`options`]: what was typed becomes settings (`run` resolves everything once into a
+//!   [`RunPlan`](options::run_plan::RunPlan));
+//! - [`files`]: what wogan writes and reads; every record is a type of [`files::records`];
+//! - [`sut`]: what the search drives (wogan's simulator, or an executor);
+//! - [`report`] and [`sbst`]: reports on runs, and the SBST competition's files and measures.
+//!
+//! Results go to stdout as JSON lines, one object per line, flushed as soon as known; progress
+//! and logs go to stderr.
 
 mod commands;
-mod config_file;
-mod driver_options;
-mod executor;
-mod failure_streak;
-mod generator_file;
+mod files;
 mod interrupt;
-mod json_lines;
-mod junit;
-mod output_file;
-mod plan;
-mod records;
+mod jobs;
+mod options;
 mod report;
-mod road_sut;
-mod run_file;
-mod saved_roads;
 mod sbst;
-mod search_preset;
-mod suite_file;
-mod value_parsers;
+mod sut;
 
 use commands::{
     camera, dataset, export, replay, report as report_command, run, sample, simulate, suite,
@@ -54,7 +48,7 @@ enum Command {
     /// Drive a lane-keeping driver along roads and report how far it left its lane.
     Simulate(simulate::SimulateArgs),
     /// Search for roads on which the driver leaves its lane (WOGAN or random search).
-    Run(Box<plan::RunArgs>),
+    Run(Box<options::run_plan::RunArgs>),
     /// Train the dave2-proxy driver by behaviour cloning from beamng-ai-proxy.
     TrainDriver(train_driver::TrainDriverArgs),
     /// Write what the dave2-proxy camera sees along a road, as PNG.

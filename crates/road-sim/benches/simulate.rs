@@ -15,7 +15,7 @@ mod scenario;
 use road_sim::driver::dave2::embedded_weights;
 use road_sim::driver::Dave2DriverParams;
 use road_sim::vision::{Camera, CameraParams, Dave2Net, RoadScene};
-use road_sim::{DriverKind, Road, SimConfig};
+use road_sim::{CompetitionSetup, DriverKind, Road, SimConfig};
 use scenario::{calibrate, continuity, deciles, read_roads, simulate_kind, CalibrationRoad};
 use std::hint::black_box;
 use std::time::Instant;
@@ -126,8 +126,8 @@ fn main() {
         .collect();
     let mut criterion = Criterion::default().configure_from_args().sample_size(30);
     let dave2_config = SimConfig {
-        speed_limit_kmh: DriverKind::Dave2Proxy.preset().speed_limit_kmh,
-        oob_tolerance: DriverKind::Dave2Proxy.preset().oob_tolerance,
+        speed_limit_kmh: CompetitionSetup::Dave2.speed_limit_kmh(),
+        oob_tolerance: CompetitionSetup::Dave2.oob_tolerance(),
         ..SimConfig::default()
     };
     print_dave2_split(&built, &dave2_config);

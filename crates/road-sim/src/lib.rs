@@ -13,18 +13,17 @@
 //! - [`distinct`]: how many failing roads differ around where the car left its lane.
 //!
 //! ```
-//! use road_sim::driver::{DriverConfig, DriverKind};
+//! use road_sim::driver::{CompetitionSetup, DriverConfig, DriverKind};
 //! use road_sim::{simulate, Outcome, Road};
 //!
 //! let road = Road::new(&[[100.0, 10.0], [100.0, 60.0], [100.0, 110.0]]).unwrap();
 //! let kind = DriverKind::BeamNgAiProxy;
 //! let driver = DriverConfig::default_for(kind);
-//! let sim = kind.preset().sim_config();
+//! let sim = CompetitionSetup::of(kind).sim_config();
 //! let result = simulate(&road, driver.build().as_mut(), &sim, false, None);
 //! assert_eq!(result.outcome, Outcome::Pass);
 //! ```
 
-pub mod child_process;
 pub mod distinct;
 pub mod driver;
 pub mod json_float;
@@ -35,7 +34,7 @@ pub mod sim;
 pub mod validator;
 pub mod vision;
 
-pub use driver::{DriverConfig, DriverKind};
+pub use driver::{CompetitionSetup, DriverConfig, DriverKind};
 pub use road::{CurvatureRoad, Point, Road, RoadFeatures, RoadPlacement};
 pub use setting_checks::SettingsError;
 pub use sim::{

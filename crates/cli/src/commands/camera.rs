@@ -2,11 +2,11 @@
 //! right lane of a road, as PNG.
 
 use super::Status;
-use crate::json_lines::{numbered_lines, open_input};
+use crate::files::json_lines::open_input;
+use crate::files::road_input::roads_of_lines;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::driver::{Contract, OnnxParams};
-use road_sim::road::input::{parse_line, RoadInput};
 use road_sim::sim::start_pose;
 use road_sim::vision::{write_png, Camera, CameraParams, RoadScene};
 use road_sim::Validator;
@@ -19,7 +19,7 @@ pub struct CameraArgs {
     /// Standard input when absent or `-`.
     pub file: Option<PathBuf>,
     /// Distances along the road, metres, at which the car stands on the right-lane centre.
-    #[arg(long, value_delimiter = ',', default_value = "2.5", allow_negative_numbers = true, value_parser = crate::value_parsers::distance_along_m)]
+    #[arg(long, value_delimiter = ',', default_value = "2.5", allow_negative_numbers = true, value_parser = crate::options::value_parsers::distance_along_m)]
     pub at: Vec<f64>,
     /// Where to write the pictures: `DIR/camera.<metres>.png`.
     #[arg(long, value_name = "DIR")]
@@ -29,30 +29,20 @@ pub struct CameraArgs {
     pub gray: bool,
     /// The camera of a camera network's contract (`sbst2022`, `udacity`) at its render size,
     /// instead of dave2-proxy's.
-    #[arg(long, value_name = "NAME", value_parser = crate::value_parsers::contract)]
+    #[arg(long, value_name = "NAME", value_parser = crate::options::value_parsers::contract)]
     pub contract: Option<Contract>,
     /// Side of the square map, metres.
-    #[arg(long, default_value_t = 200.0, value_parser = crate::value_parsers::map_size_m, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 200.0, value_parser = crate::options::value_parsers::map_size_m, allow_negative_numbers = true)]
     pub map_size: f64,
 }
 
 /// Runs `wogan camera`.
 pub fn run(args: &CameraArgs) -> Result<Status> {
-    let mut road_points = None;
-    for line in numbered_lines(open_input(args.file.as_deref())?) {
-        let line = line?;
-        let text = line
-            .text
-            .map_err(anyhow::Error::msg)
-            .with_context(|| format!("line {}", line.number))?;
-        match parse_line(&text, args.map_size).with_context(|| format!("line {}", line.number))? {
-            RoadInput::Skip => continue,
-            road => {
-                road_points = road.points().map(<[_]>::to_vec);
-                break;
-            }
-        }
-    }
+    let input = open_input(args.file.as_deref())?;
+    let road_points = roads_of_lines(input, args.map_size, args.file.as_deref())
+        .next()
+        .transpose()?
+        .map(|(_, points)| points);
     let Some(road_points) = road_points else {
         bail!("the input holds no road");
     };

@@ -17,16 +17,16 @@
 //! dataset's folder.
 
 use super::Status;
-use crate::driver_options::DriverOptions;
+use crate::files::json_lines::open_input;
+use crate::files::road_input::roads_of_lines;
 use crate::interrupt::stop_flag;
-use crate::json_lines::{numbered_lines, open_input};
+use crate::options::driver_options::DriverOptions;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use driver_training::random_valid_roads;
 use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
 use road_sim::driver::{Contract, OnnxParams};
-use road_sim::road::input::{parse_line, RoadInput};
 use road_sim::vision::{write_png, Camera, CameraParams, Frame, RoadScene};
 use road_sim::{simulate, Road, Sample, StopReason, Validator};
 use std::io::Write;
@@ -62,13 +62,13 @@ pub struct DatasetArgs {
     pub roads: Option<PathBuf>,
     /// The camera network contract whose camera and steering convention the frames and labels
     /// follow (`udacity`, `sbst2022`).
-    #[arg(long, default_value = "udacity", value_parser = crate::value_parsers::contract)]
+    #[arg(long, default_value = "udacity", value_parser = crate::options::value_parsers::contract)]
     pub contract: Contract,
     /// Frames per simulated second (the simulator records about 15).
-    #[arg(long, default_value_t = 15.0, value_parser = crate::value_parsers::record_hz)]
+    #[arg(long, default_value_t = 15.0, value_parser = crate::options::value_parsers::record_hz)]
     pub record_hz: f64,
     /// Largest curvature of the random roads, 1/m (the search's roads go up to 0.07).
-    #[arg(long, default_value_t = 0.03, value_parser = crate::value_parsers::max_curvature_per_m)]
+    #[arg(long, default_value_t = 0.03, value_parser = crate::options::value_parsers::max_curvature_per_m)]
     pub max_curvature: f64,
     #[command(flatten)]
     pub driver: DriverOptions,
@@ -101,24 +101,14 @@ impl RoadSource {
 fn file_roads(path: &Path, map_size_m: f64) -> Result<Vec<Road>> {
     let validator = Validator::new(map_size_m);
     let mut roads = Vec::new();
-    for line in numbered_lines(open_input(Some(path))?) {
-        let line = line?;
-        let text = line
-            .text
-            .map_err(anyhow::Error::msg)
-            .with_context(|| format!("{}: line {}", path.display(), line.number))?;
-        let road = parse_line(&text, map_size_m)
-            .with_context(|| format!("{}: line {}", path.display(), line.number))?;
-        if matches!(road, RoadInput::Skip) {
-            continue;
-        }
-        let verdict = validator.validate(road.points().unwrap_or_default());
+    for road in roads_of_lines(open_input(Some(path))?, map_size_m, Some(path)) {
+        let (line, points) = road?;
+        let verdict = validator.validate(&points);
         match (verdict.reason, verdict.road) {
             (None, Some(road)) => roads.push(road),
             (reason, _) => eprintln!(
-                "wogan dataset: {}: line {}: skipped, the road is invalid: {}",
+                "wogan dataset: {}: line {line}: skipped, the road is invalid: {}",
                 path.display(),
-                line.number,
                 reason.map_or("malformed", |r| r.message())
             ),
         }

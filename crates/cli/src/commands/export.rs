@@ -11,7 +11,7 @@
 //! `--force` replaces an earlier export, and removes nothing else. The run file must not be in
 //! that directory, where the export could write over it.
 
-use crate::run_file::read_run;
+use crate::files::run_file::read_run;
 use crate::sbst::write_result_folder;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};

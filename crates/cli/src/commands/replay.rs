@@ -5,18 +5,17 @@
 //! an outcome changed (`--fail-on changed`), 2 when some input could not be used (the good roads
 //! are still driven), 130 after Ctrl-C with what was driven written.
 
-use super::road_stream::thread_pool;
 use super::Status;
-use crate::driver_options::DriverOptions;
+use crate::files::json_lines::JsonLinesWriter;
+use crate::files::junit::{self, JunitCase};
+use crate::files::output_file::same_file;
+use crate::files::records::{Record, ReplayRecord};
+use crate::files::saved_roads::{read_saved_roads, SavedRoad};
 use crate::interrupt::stop_flag;
-use crate::json_lines::JsonLinesWriter;
-use crate::junit::{self, JunitCase};
-use crate::output_file::same_file;
-use crate::records::{Record, ReplayRecord};
-use crate::saved_roads::{read_saved_roads, SavedRoad};
+use crate::jobs::{Jobs, Next};
+use crate::options::driver_options::DriverOptions;
 use anyhow::{bail, Result};
 use clap::Args;
-use rayon::prelude::*;
 use road_sim::{simulate, DriverConfig, SimConfig, SimResult, StopReason, Validator};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -86,37 +85,40 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
         eprintln!("wogan replay: {problem}");
     }
     let validator = Validator::new(args.driver.map_size);
-    let pool = thread_pool(args.jobs as usize)?;
+    let jobs = Jobs::new(args.jobs as usize)?;
     let mut out = JsonLinesWriter::create(None)?;
     let mut replayed: Vec<(&SavedRoad, Replayed)> = Vec::with_capacity(roads.len());
-    let chunk = (args.jobs as usize).max(1);
-    for batch in roads.chunks(chunk) {
-        if stop.load(Ordering::SeqCst) {
-            break;
+    // Items are indices into `roads`.
+    let mut indices = 0..roads.len();
+    let next = |asked: usize| -> Result<Next<usize>> {
+        let batch: Vec<usize> = indices.by_ref().take(asked).collect();
+        Ok(if batch.is_empty() {
+            Next::End
+        } else {
+            Next::Items(batch)
+        })
+    };
+    let drive = |&index: &usize| replay_one(&roads[index], &validator, &driver, &sim, &stop);
+    let write = |&index: &usize, answer: Option<Replayed>| -> Result<()> {
+        let road = &roads[index];
+        // Cut short by Ctrl-C: not reported, as the drive did not end.
+        let Some(answer) = answer else { return Ok(()) };
+        out.write(&Record::Replay(answer.record.clone()))?;
+        if answer.record.outcome == "INVALID" {
+            let problem = format!(
+                "{}:{}: {}: {}",
+                road.file.display(),
+                road.line,
+                road.name,
+                answer.record.reason.as_deref().unwrap_or("invalid")
+            );
+            eprintln!("wogan replay: {problem}");
+            problems.push(problem);
         }
-        let drive = |road: &SavedRoad| replay_one(road, &validator, &driver, &sim, &stop);
-        let answers: Vec<Option<Replayed>> = match &pool {
-            Some(pool) => pool.install(|| batch.par_iter().map(drive).collect()),
-            None => batch.iter().map(drive).collect(),
-        };
-        for (road, answer) in batch.iter().zip(answers) {
-            // Cut short by Ctrl-C: not reported, as the drive did not end.
-            let Some(answer) = answer else { continue };
-            out.write(&Record::Replay(answer.record.clone()))?;
-            if answer.record.outcome == "INVALID" {
-                let problem = format!(
-                    "{}:{}: {}: {}",
-                    road.file.display(),
-                    road.line,
-                    road.name,
-                    answer.record.reason.as_deref().unwrap_or("invalid")
-                );
-                eprintln!("wogan replay: {problem}");
-                problems.push(problem);
-            }
-            replayed.push((road, answer));
-        }
-    }
+        replayed.push((road, answer));
+        Ok(())
+    };
+    jobs.answer_in_order(&stop, next, drive, write)?;
     let interrupted = stop.load(Ordering::SeqCst);
     if let Some(path) = &args.junit {
         write_junit(path, args, &replayed)?;
@@ -241,7 +243,7 @@ fn write_junit(
         .collect();
     let properties = [
         ("driver", args.driver.kind().name().to_owned()),
-        ("wogan", crate::records::VERSION.to_owned()),
+        ("wogan", crate::files::records::VERSION.to_owned()),
     ];
     junit::write_report(path, "wogan replay", &properties, &cases)
 }

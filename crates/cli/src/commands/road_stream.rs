@@ -4,21 +4,22 @@
 //!
 //! Answers stream: a line is answered as soon as it has been read, so another program can keep
 //! one `wogan simulate` as a child and feed it one road at a time. With `--jobs N`, the lines
-//! already read (up to N) are answered in parallel. A reader thread reads ahead, so the loop can
+//! already read (up to N) are answered in parallel ([`crate::jobs`]). A reader thread reads ahead, so the loop can
 //! notice Ctrl-C or SIGTERM while waiting for input; then it writes what it has answered and ends.
 //! A JSON value spread over several lines (a pretty-printed competition test) is read as one
 //! input, answered under the number of its first line.
 
 use super::Status;
-use crate::json_lines::{json_values, InputLine, JsonLinesWriter};
-use crate::records::{ErrorRecord, Record};
+use crate::files::json_lines::{json_values, InputLine, JsonLinesWriter};
+use crate::files::records::{ErrorRecord, Record};
+use crate::files::road_input::road_reader;
+use crate::jobs::{Ended, Jobs, Next};
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
-use rayon::prelude::*;
-use road_sim::road::input::{parse_value, InputError, RoadInput};
+use road_sim::road::input::{InputError, RoadInput};
 use serde_json::Value;
 use std::io::{BufRead, IsTerminal};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError};
 use std::time::Duration;
 
@@ -57,11 +58,27 @@ pub fn answer_each_road<F>(
 where
     F: Fn(&RoadSource, &RoadInput) -> Answer + Sync,
 {
-    let pool = thread_pool(jobs)?;
-    let lines = read_ahead(input, jobs.max(1) * 2);
+    let jobs = Jobs::new(jobs)?;
+    let lines = read_ahead(input, jobs.count() * 2);
     let progress = Progress::new();
     let mut status = Status::AllRead;
-    let run_one = |line: &InputLine| -> Option<Result<Answer, String>> {
+    // Wait for one line, then take the others already read, up to one per job.
+    let next = |asked: usize| -> Result<Next<InputLine>> {
+        let mut batch = match lines.recv_timeout(STOP_POLL) {
+            Ok(line) => vec![line?],
+            Err(RecvTimeoutError::Timeout) => return Ok(Next::Waiting),
+            Err(RecvTimeoutError::Disconnected) => return Ok(Next::End),
+        };
+        while batch.len() < asked {
+            match lines.try_recv() {
+                Ok(line) => batch.push(line?),
+                Err(_) => break,
+            }
+        }
+        Ok(Next::Items(batch))
+    };
+    let reader = road_reader(map_size_m);
+    let answer_line = |line: &InputLine| -> Option<Result<Answer, String>> {
         let text = match &line.text {
             Ok(text) => text,
             Err(error) => return Some(Err(error.clone())),
@@ -70,7 +87,7 @@ where
             Ok(value) => value,
             Err(error) => return Some(Err(InputError::NotJson(error.to_string()).to_string())),
         };
-        match parse_value(&value, map_size_m) {
+        match reader.read_value(&value) {
             Ok(RoadInput::Skip) => None,
             Ok(road) => {
                 let source = RoadSource {
@@ -82,47 +99,28 @@ where
             Err(error) => Some(Err(error.to_string())),
         }
     };
-    loop {
-        if stop.load(Ordering::SeqCst) {
-            return Ok(Status::Interrupted);
-        }
-        // Wait for one line, then take the others already read, up to one per job.
-        let mut chunk = match lines.recv_timeout(STOP_POLL) {
-            Ok(line) => vec![line?],
-            Err(RecvTimeoutError::Timeout) => continue,
-            Err(RecvTimeoutError::Disconnected) => break,
-        };
-        while chunk.len() < jobs.max(1) {
-            match lines.try_recv() {
-                Ok(line) => chunk.push(line?),
-                Err(_) => break,
+    let write = |line: &InputLine, answer: Option<Result<Answer, String>>| -> Result<()> {
+        match answer {
+            None => {}
+            Some(Ok(Answer::Record(record))) => out.write(&record)?,
+            // Cut short by a stop, which ends the loop before the next batch.
+            Some(Ok(Answer::Dropped)) => {}
+            Some(Err(error)) => {
+                status = Status::SomeLinesBad;
+                out.write(&Record::Error(ErrorRecord {
+                    line: line.number,
+                    error,
+                }))?;
             }
         }
-        let answers: Vec<Option<Result<Answer, String>>> = match &pool {
-            Some(pool) => pool.install(|| chunk.par_iter().map(run_one).collect()),
-            None => chunk.iter().map(run_one).collect(),
-        };
-        for (line, answer) in chunk.iter().zip(answers) {
-            match answer {
-                None => {}
-                Some(Ok(Answer::Record(record))) => out.write(&record)?,
-                Some(Ok(Answer::Dropped)) => return Ok(Status::Interrupted),
-                Some(Err(error)) => {
-                    status = Status::SomeLinesBad;
-                    out.write(&Record::Error(ErrorRecord {
-                        line: line.number,
-                        error,
-                    }))?;
-                }
-            }
-            progress.answered();
-        }
-    }
+        progress.answered();
+        Ok(())
+    };
+    let ended = jobs.answer_in_order(stop, next, answer_line, write)?;
     progress.finish();
-    Ok(if stop.load(Ordering::SeqCst) {
-        Status::Interrupted
-    } else {
-        status
+    Ok(match ended {
+        Ended::Stopped => Status::Interrupted,
+        Ended::AllAnswered => status,
     })
 }
 
@@ -143,15 +141,6 @@ fn read_ahead(
         }
     });
     receiver
-}
-
-/// A thread pool of `jobs` threads, or `None` for one job (answers on this thread).
-pub fn thread_pool(jobs: usize) -> Result<Option<rayon::ThreadPool>> {
-    if jobs <= 1 {
-        return Ok(None);
-    }
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(jobs).build()?;
-    Ok(Some(pool))
 }
 
 /// A count of answered lines on stderr, shown only on a terminal.

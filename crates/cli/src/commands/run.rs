@@ -2,15 +2,15 @@
 //! executed test, per training round, and a final summary.
 
 use super::Status;
-use crate::executor::ExecutorSut;
-use crate::failure_streak::FailureStreak;
-use crate::generator_file::{self, GeneratorPayload};
+use crate::files::generator_file::{self, GeneratorPayload};
+use crate::files::json_lines::JsonLinesWriter;
+use crate::files::junit::{self, JunitCase};
+use crate::files::records::{Record, RoadExecution, SummaryRecord, TestRecord, TrainRecord};
 use crate::interrupt::stop_flag;
-use crate::json_lines::JsonLinesWriter;
-use crate::junit::{self, JunitCase};
-use crate::plan::{FailOn, RunArgs, RunPlan};
-use crate::records::{Record, RoadExecution, SummaryRecord, TestRecord, TrainRecord};
-use crate::road_sut::RoadSut;
+use crate::options::run_plan::{FailOn, RunArgs, RunPlan};
+use crate::sut::failure_streak::FailureStreak;
+use crate::sut::road_sut::RoadSut;
+use crate::sut::ExecutorSut;
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use road_sim::road::diversity_profile::diversity_profile;
@@ -224,7 +224,7 @@ fn write_junit(path: &std::path::Path, plan: &RunPlan, tests: &[TestRecord]) -> 
         ("driver", plan.driver_kind().name().to_owned()),
         ("algorithm", plan.algorithm_name().to_owned()),
         ("fitness", plan.fitness.name().to_owned()),
-        ("wogan", crate::records::VERSION.to_owned()),
+        ("wogan", crate::files::records::VERSION.to_owned()),
     ];
     junit::write_report(path, "wogan run", &properties, &cases)
 }

@@ -6,11 +6,11 @@
 //! ends the drawing and writes the roads drawn so far.
 
 use super::Status;
-use crate::generator_file;
+use crate::files::generator_file;
+use crate::files::json_lines::JsonLinesWriter;
+use crate::files::records::{Record, SampleRecord};
 use crate::interrupt::stop_flag;
-use crate::json_lines::JsonLinesWriter;
-use crate::records::{Record, SampleRecord};
-use crate::road_sut::RoadSut;
+use crate::sut::road_sut::RoadSut;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use rand::SeedableRng;
@@ -40,7 +40,7 @@ pub struct SampleArgs {
 /// Runs `wogan sample`.
 pub fn run(args: &SampleArgs) -> Result<Status> {
     if let Some(out) = &args.out {
-        if out == &args.generator || crate::output_file::same_file(out, &args.generator) {
+        if out == &args.generator || crate::files::output_file::same_file(out, &args.generator) {
             bail!(
                 "--out {} is the generator file; write the roads elsewhere",
                 out.display()

@@ -2,10 +2,10 @@
 
 use super::road_stream::{answer_each_road, Answer};
 use super::Status;
-use crate::driver_options::DriverOptions;
+use crate::files::json_lines::{open_input, JsonLinesWriter};
+use crate::files::records::{InvalidOutcome, Record, ResultRecord, TraceRecord};
 use crate::interrupt::stop_flag;
-use crate::json_lines::{open_input, JsonLinesWriter};
-use crate::records::{InvalidOutcome, Record, ResultRecord, TraceRecord};
+use crate::options::driver_options::DriverOptions;
 use crate::sbst::format::execution_data;
 use anyhow::{Context, Result};
 use clap::Args;

@@ -2,13 +2,13 @@
 //! roads of runs (each once; with `--max N` the most different ones, by farthest-point selection
 //! on the heading profiles' distance, never dropping a road the suite already holds); `list`
 //! shows it.
-//! The file's layout is [`crate::suite_file`].
+//! The file's layout is [`crate::files::suite_file`].
 
 use super::Status;
-use crate::output_file::same_file;
-use crate::records::{RecordedDrive, RoadOrigin, SuiteRoad};
-use crate::run_file::read_run;
-use crate::suite_file::{self, farthest_points, profile_of, Suite};
+use crate::files::output_file::same_file;
+use crate::files::records::{RecordedDrive, RoadOrigin, SuiteRoad};
+use crate::files::run_file::read_run;
+use crate::files::suite_file::{self, farthest_points, profile_of, Suite};
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand};
 use std::collections::HashSet;

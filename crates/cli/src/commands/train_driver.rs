@@ -1,9 +1,9 @@
 //! `wogan train-driver`: behaviour cloning of `dave2-proxy` from the `beamng-ai-proxy` teacher.
 
 use super::Status;
-use crate::config_file;
-use crate::json_lines::JsonLinesWriter;
-use crate::records::{DriverRecord, Record};
+use crate::files::json_lines::JsonLinesWriter;
+use crate::files::records::{DriverRecord, Record};
+use crate::options::config_file;
 use anyhow::{Context, Result};
 use clap::Args;
 use driver_training::{train, CloningConfig, CloningProgress};

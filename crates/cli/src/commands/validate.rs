@@ -2,10 +2,10 @@
 
 use super::road_stream::{answer_each_road, Answer};
 use super::Status;
+use crate::files::json_lines::{open_input, JsonLinesWriter};
+use crate::files::records::{Record, VerdictRecord};
 use crate::interrupt::stop_flag;
-use crate::json_lines::{open_input, JsonLinesWriter};
-use crate::records::{Record, VerdictRecord};
-use crate::value_parsers::map_size_m;
+use crate::options::value_parsers::map_size_m;
 use anyhow::Result;
 use clap::Args;
 use road_sim::Validator;

@@ -2,8 +2,8 @@
 //! and the competition's feature coverage of the failing tests.
 
 use super::stats::{mean, median, sample_sd};
-use crate::records::{known, TestRecord};
-use crate::run_file::RunFile;
+use crate::files::records::{known, TestRecord};
+use crate::files::run_file::RunFile;
 use crate::sbst::metrics::SbstMeasures;
 use rayon::prelude::*;
 use road_sim::distinct::{distinct, ExitProfile, DELTA_RAD};
@@ -322,7 +322,7 @@ fn values_of(runs: &[RunMeasures], measure: Measure) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::records::TestRecord;
+    use crate::files::records::TestRecord;
     use road_sim::Outcome;
 
     fn run_of(outcomes: &[Outcome]) -> RunFile {

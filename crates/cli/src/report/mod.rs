@@ -3,7 +3,7 @@
 //! picture of one simulation trace.
 //!
 //! A group is a sample of one condition: without `--vs` runs are grouped by their configuration
-//! ([`RunKey`](crate::run_file::RunKey)); with `--vs` each of the two groups given must be of one
+//! ([`RunKey`](crate::files::run_file::RunKey)); with `--vs` each of the two groups given must be of one
 //! driver, failure threshold and speed limit, and a file given twice counts once.
 
 mod group;

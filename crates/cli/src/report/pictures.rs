@@ -3,8 +3,8 @@
 
 use super::markdown::Pictures;
 use super::plots::{bolp_histogram_svg, fitness_svg, roads_svg, MapRoad};
-use crate::records::known;
-use crate::run_file::RunFile;
+use crate::files::records::known;
+use crate::files::run_file::RunFile;
 use anyhow::Result;
 use std::path::Path;
 

@@ -8,7 +8,7 @@
 //! sample of them, so that its file stays small enough to open (under 2 MB), and says so under
 //! its title.
 
-use crate::records::{known, TestRecord};
+use crate::files::records::{known, TestRecord};
 use anyhow::{anyhow, Result};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;

@@ -5,7 +5,7 @@ use super::group::{GroupFigures, RunMeasures};
 use super::inputs::{run_inputs, InputKind, RunInput};
 use super::markdown::{self, GroupSection};
 use super::pictures::draw_group;
-use crate::run_file::{read_run, RunFile, RunKey};
+use crate::files::run_file::{read_run, RunFile, RunKey};
 use crate::sbst::read_result_folder;
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;

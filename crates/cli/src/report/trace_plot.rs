@@ -2,8 +2,8 @@
 //! (coloured by BOLP), and BOLP and speed over time, in one SVG.
 
 use super::plots::{draw_map_mesh, plot_error, road_outline, titled};
-use crate::json_lines::{numbered_lines, open_input};
-use crate::records::TraceRecord;
+use crate::files::json_lines::{numbered_lines, open_input};
+use crate::files::records::TraceRecord;
 use anyhow::{anyhow, Result};
 use plotters::prelude::*;
 use road_sim::{Point, Road, Sample};

@@ -10,8 +10,8 @@
 //! sparseness over the OOBs that could be placed, which equals the pipeline's whenever the
 //! pipeline's succeeds.
 
-use crate::records::{known, TestRecord};
-use crate::run_file::RunFile;
+use crate::files::records::{known, TestRecord};
+use crate::files::run_file::RunFile;
 use road_sim::oob::{self, OobEntry, OobError, OobSummary, SbstTest};
 use road_sim::{LaneSide, Outcome, StopReason};
 

@@ -5,9 +5,9 @@
 
 use super::format::{description, execution_data, test_file_number, CompetitionTest, Features};
 use super::metrics::{oob_summary, GenerationStats};
-use crate::driver_options::driver_config;
-use crate::records::TestRecord;
-use crate::run_file::{RunFile, RunHeader};
+use crate::files::records::TestRecord;
+use crate::files::run_file::{RunFile, RunHeader};
+use crate::options::driver_options::driver_config;
 use anyhow::{bail, Context, Result};
 use road_sim::{simulate, DriverConfig, Road, SimConfig, SimResult, Validator};
 use std::path::{Path, PathBuf};
@@ -217,7 +217,7 @@ fn write_test(
     let phase = test.phase.name();
     let seed = seed.map_or_else(|| "unknown".to_owned(), |s| s.to_string());
     let name = format!("(wogan test {}, {phase} phase, seed {seed})", test.id);
-    let known = crate::records::known;
+    let known = crate::files::records::known;
     let object = CompetitionTest {
         id: test.id,
         road_points,

@@ -21,12 +21,13 @@
 //! read `?`: nothing is guessed.
 
 use super::format::{test_file_number, test_files, FIELDS};
-use crate::records::{RoadExecution, SummaryRecord, TestRecord};
-use crate::run_file::{key_text, RunFile, RunHeader, RunKey};
+use crate::files::records::{RoadExecution, SummaryRecord, TestRecord};
+use crate::files::road_input::road_reader;
+use crate::files::run_file::{key_text, RunFile, RunHeader, RunKey};
 use anyhow::{Context, Result};
 use road_sim::oob::geometry::distance_to_line;
 use road_sim::oob::sbst_side;
-use road_sim::road::input::{parse_value, RoadInput};
+use road_sim::road::input::RoadInput;
 use road_sim::road::ROAD_WIDTH_M;
 use road_sim::{DriverKind, LaneExit, LaneSide, Outcome, Road, SimResult, StopReason};
 use serde_json::{json, Value};
@@ -198,7 +199,10 @@ fn read_test_file(path: &Path) -> Result<Option<TestRecord>, String> {
     if value.get("road_points").is_none() {
         return Err("road_points: missing".to_owned());
     }
-    let road_points = match parse_value(&value, MAP_SIZE_M).map_err(|e| e.to_string())? {
+    let road_points = match road_reader(MAP_SIZE_M)
+        .read_value(&value)
+        .map_err(|e| e.to_string())?
+    {
         RoadInput::Points(points) => points,
         _ => return Err("road_points: holds no road".to_owned()),
     };

@@ -23,19 +23,10 @@
 //! what every candidate measured: `docs/experiments/2026-11-23-drivers-on-long-roads.md`.
 
 use super::pedals::pedals;
-use super::preset::DriverPreset;
 use crate::road::{polyline, Point, Road};
 use crate::setting_checks::{all_non_negative, all_positive, SettingsError};
-use crate::sim::{Command, Driver, FitnessKind, Observation, VehicleParams};
+use crate::sim::{Command, Driver, Observation, VehicleParams};
 use serde::{Deserialize, Serialize};
-
-/// How `beamng-ai-proxy` is judged unless told otherwise: the competition's oob tolerance for
-/// BeamNG.AI (0.85) at 70 km/h, searched on the paper's fitness, BOLP.
-pub const PRESET: DriverPreset = DriverPreset {
-    oob_tolerance: 0.85,
-    speed_limit_kmh: 70.0,
-    fitness: FitnessKind::Bolp,
-};
 
 const G: f64 = 9.81;
 

@@ -1,11 +1,10 @@
-//! Which driver is under test and how it is set up: its name, its preset (the tolerance, speed
-//! limit and fitness it is judged by unless told otherwise) and its tuning.
+//! Which driver is under test and how it is set up: its name, the competition's setup it is
+//! judged by unless told otherwise (tolerance, speed limit, fitness) and its tuning.
 
-use super::beamng_ai::{self, BeamNgAiParams, BeamNgAiProxy};
-use super::controller::{self, ControllerConfig, ControllerParams};
+use super::beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
+use super::controller::{ControllerConfig, ControllerParams};
 use super::dave2::{self, Dave2Driver, Dave2DriverParams};
-use super::onnx::{self, OnnxConfig, OnnxParams};
-use super::preset::DriverPreset;
+use super::onnx::{OnnxConfig, OnnxParams};
 use crate::setting_checks::SettingsError;
 use crate::sim::Driver;
 use crate::vision::Dave2Weights;
@@ -56,16 +55,6 @@ impl DriverKind {
     /// The built-in driver of that name, if any.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|k| k.name() == name)
-    }
-
-    /// How this driver is judged unless told otherwise (kept beside each driver).
-    pub fn preset(self) -> DriverPreset {
-        match self {
-            DriverKind::BeamNgAiProxy => beamng_ai::PRESET,
-            DriverKind::Dave2Proxy => dave2::PRESET,
-            DriverKind::Controller => controller::PRESET,
-            DriverKind::Onnx => onnx::PRESET,
-        }
     }
 }
 
@@ -205,7 +194,6 @@ impl Serialize for DriverConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::{FitnessKind, SimConfig};
 
     #[test]
     fn names_round_trip() {
@@ -223,16 +211,5 @@ mod tests {
             "dave3".parse::<DriverKind>().unwrap_err().to_string(),
             "unknown driver \"dave3\" (known: beamng-ai-proxy, dave2-proxy)"
         );
-    }
-
-    #[test]
-    fn presets_are_the_competitions_settings() {
-        let beamng = DriverKind::BeamNgAiProxy.preset();
-        assert_eq!((beamng.oob_tolerance, beamng.speed_limit_kmh), (0.85, 70.0));
-        assert_eq!(beamng.fitness, FitnessKind::Bolp);
-        let dave2 = DriverKind::Dave2Proxy.preset();
-        assert_eq!((dave2.oob_tolerance, dave2.speed_limit_kmh), (0.10, 25.0));
-        assert_eq!(dave2.fitness, FitnessKind::Bolp);
-        assert_eq!(beamng.sim_config(), SimConfig::default());
     }
 }

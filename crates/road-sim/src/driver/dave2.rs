@@ -6,23 +6,12 @@
 //! the set speed (25 km/h by default, never above the simulation's speed limit).
 
 use super::pedals::pedals;
-use super::preset::DriverPreset;
 use crate::road::Road;
 use crate::setting_checks::{all_non_negative, all_within, SettingsError};
-use crate::sim::{Command, Driver, FitnessKind, Observation, VehicleParams};
+use crate::sim::{Command, Driver, Observation, VehicleParams};
 use crate::vision::{Camera, CameraParams, Dave2Net, Dave2Weights, Frame, RoadScene, WeightsError};
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, OnceLock};
-
-/// How `dave2-proxy` is judged unless told otherwise: the competition's oob tolerance for DAVE-2
-/// (0.10) at its 2024 speed of 25 km/h, searched on the paper's BOLP fitness (the lane distance,
-/// which has a slope where BOLP is 0, found fewer failing roads against the built-in student:
-/// docs/experiments/2026-11-22-search-options.md).
-pub const PRESET: DriverPreset = DriverPreset {
-    oob_tolerance: 0.10,
-    speed_limit_kmh: 25.0,
-    fitness: FitnessKind::Bolp,
-};
 
 /// The weights of `dave2-proxy` trained by `wogan train-driver` and built into the binary.
 const EMBEDDED_WEIGHTS: &[u8] = include_bytes!("../../weights/dave2-proxy.bin");
@@ -184,6 +173,7 @@ impl Driver for Dave2Driver {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::driver::CompetitionSetup;
     use crate::sim::{simulate, Outcome, SimConfig, StopReason};
 
     #[test]
@@ -252,11 +242,11 @@ mod tests {
     }
 
     /// The built-in student on the SBST 2022 entries' sharpest long roads (the first 30 of
-    /// AmbieGen's in `tests/reference/peer_roads_dev.jsonl`), at its preset: the competition's
+    /// AmbieGen's in `tests/reference/peer_roads_dev.jsonl`), in its competition setup: the competition's
     /// DAVE-2 failed about 5% of such roads; `scripts/driver_rates.sh dave2-proxy` measures all.
     #[test]
     fn the_built_in_student_keeps_its_lane_on_long_sharp_roads() {
-        let config = PRESET.sim_config();
+        let config = CompetitionSetup::Dave2.sim_config();
         let failed = crate::driver::reference_roads("peer_roads_dev.jsonl")
             .into_iter()
             .filter(|(generator, _)| generator == "ambiegen")

@@ -1,26 +1,26 @@
 //! The drivers under test: `beamng-ai-proxy` (a geometric lane keeper), `dave2-proxy` (DAVE-2
 //! steering from the camera), a camera network in ONNX (`--oracle onnx:FILE`) and a controller
-//! process (`--oracle cmd:...`), each with its preset and tuning.
+//! process (`--oracle cmd:...`), each with its tuning; [`CompetitionSetup`] is the competition's setting each is judged by.
 //!
 //! The interface a driver fills, [`Driver`], belongs to the episode that calls it
 //! ([`crate::sim`]); it is re-exported here so that a new driver finds everything in one place.
 
 pub mod beamng_ai;
+mod competition_setup;
 mod config;
 pub mod controller;
 pub mod dave2;
 pub mod onnx;
 mod pedals;
-mod preset;
 
 pub use crate::sim::{Driver, Observation};
 pub use beamng_ai::{BeamNgAiParams, BeamNgAiProxy};
+pub use competition_setup::CompetitionSetup;
 pub use config::{DriverConfig, DriverKind, UnknownDriver};
 pub use controller::{ControllerConfig, ControllerParams};
 pub use dave2::{Dave2Driver, Dave2DriverParams};
 pub use onnx::{Contract, OnnxConfig, OnnxError, OnnxParams, SteeringSide};
 pub use pedals::pedals;
-pub use preset::DriverPreset;
 
 /// The roads of `tests/reference/FILE` (JSON lines with `road_points`) with each line's
 /// `generator` (empty when it has none), for the drivers' calibration tests.

@@ -1,15 +1,11 @@
-//! Reading roads from JSON: the competition's test objects, `test` records of `wogan run`,
-//! `{"curvature": [...], "step": 15}` and bare `[[x, y], ...]` arrays.
+//! Reading roads from JSON: the competition's test objects, any object with `road_points` (as
+//! `wogan run`'s `test` records), `{"curvature": [...], "step": 15}` and bare `[[x, y], ...]`
+//! arrays. The reader is told which object types hold no road and pass through unanswered (its
+//! caller's own records); this crate knows no one's wire format.
 
 use super::curvature::{CurvatureRoad, DEFAULT_STEP_M};
 use super::Point;
 use serde_json::Value;
-
-/// Record types that hold no road, skipped when they have none: `wogan` output's, and the
-/// executor protocol's `hello` and `bye` (so that `wogan simulate` serves as an executor).
-const RECORDS_WITHOUT_ROAD: [&str; 7] = [
-    "header", "train", "summary", "error", "verdict", "hello", "bye",
-];
 
 /// What one input line holds.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,7 +19,8 @@ pub enum RoadInput {
         /// The road points they make.
         points: Vec<Point>,
     },
-    /// A record that holds no road (`header`, `train`, `summary` of a run): nothing to do.
+    /// An object of a type the reader passes over ([`RoadReader::passed_over`]) that holds no
+    /// road: nothing to do.
     Skip,
 }
 
@@ -63,45 +60,58 @@ fn bad(field: impl Into<String>, problem: impl Into<String>) -> InputError {
     }
 }
 
-/// Parses one line of input; `map_size_m` places curvature roads.
-pub fn parse_line(line: &str, map_size_m: f64) -> Result<RoadInput, InputError> {
-    let value: Value =
-        serde_json::from_str(line).map_err(|e| InputError::NotJson(e.to_string()))?;
-    parse_value(&value, map_size_m)
+/// How roads are read: where curvature roads are placed, and which objects hold no road.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoadReader<'a> {
+    /// The map's side, metres: curvature roads start at its bottom centre.
+    pub map_size_m: f64,
+    /// Object `type`s that hold no road (a caller's own records): such an object without a road
+    /// is [`RoadInput::Skip`], not an error.
+    pub passed_over: &'a [&'a str],
 }
 
-/// Reads a road from an already parsed JSON value.
-pub fn parse_value(value: &Value, map_size_m: f64) -> Result<RoadInput, InputError> {
-    match value {
-        Value::Array(_) => Ok(RoadInput::Points(points_of(value, "road")?)),
-        Value::Object(object) => {
-            if let Some(points) = object.get("road_points") {
-                return Ok(RoadInput::Points(points_of(points, "road_points")?));
-            }
-            if let Some(curvature) = object.get("curvature") {
-                let curvature = numbers_of(curvature, "curvature")?;
-                let step_m = match object.get("step") {
-                    None | Some(Value::Null) => DEFAULT_STEP_M,
-                    Some(step) => step
-                        .as_f64()
-                        .filter(|s| s.is_finite() && *s > 0.0)
-                        .ok_or_else(|| bad("step", "expected a positive number of metres"))?,
-                };
-                let points = CurvatureRoad {
-                    map_size_m,
-                    step_m,
-                    ..CurvatureRoad::default()
+impl RoadReader<'_> {
+    /// Reads one line of input.
+    pub fn read_line(&self, line: &str) -> Result<RoadInput, InputError> {
+        let value: Value =
+            serde_json::from_str(line).map_err(|e| InputError::NotJson(e.to_string()))?;
+        self.read_value(&value)
+    }
+
+    /// Reads a road from an already parsed JSON value.
+    pub fn read_value(&self, value: &Value) -> Result<RoadInput, InputError> {
+        let map_size_m = self.map_size_m;
+        match value {
+            Value::Array(_) => Ok(RoadInput::Points(points_of(value, "road")?)),
+            Value::Object(object) => {
+                if let Some(points) = object.get("road_points") {
+                    return Ok(RoadInput::Points(points_of(points, "road_points")?));
                 }
-                .points(&curvature);
-                return Ok(RoadInput::Curvature { curvature, points });
+                if let Some(curvature) = object.get("curvature") {
+                    let curvature = numbers_of(curvature, "curvature")?;
+                    let step_m = match object.get("step") {
+                        None | Some(Value::Null) => DEFAULT_STEP_M,
+                        Some(step) => step
+                            .as_f64()
+                            .filter(|s| s.is_finite() && *s > 0.0)
+                            .ok_or_else(|| bad("step", "expected a positive number of metres"))?,
+                    };
+                    let points = CurvatureRoad {
+                        map_size_m,
+                        step_m,
+                        ..CurvatureRoad::default()
+                    }
+                    .points(&curvature);
+                    return Ok(RoadInput::Curvature { curvature, points });
+                }
+                // A run's own records pass through a pipe without an answer, unless they hold a road.
+                match object.get("type").and_then(Value::as_str) {
+                    Some(kind) if self.passed_over.contains(&kind) => Ok(RoadInput::Skip),
+                    _ => Err(InputError::NoRoad),
+                }
             }
-            // A run's own records pass through a pipe without an answer, unless they hold a road.
-            match object.get("type").and_then(Value::as_str) {
-                Some(kind) if RECORDS_WITHOUT_ROAD.contains(&kind) => Ok(RoadInput::Skip),
-                _ => Err(InputError::NoRoad),
-            }
+            _ => Err(InputError::NoRoad),
         }
-        _ => Err(InputError::NoRoad),
     }
 }
 
@@ -140,6 +150,15 @@ fn points_of(value: &Value, field: &str) -> Result<Vec<Point>, InputError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Reads `line` on a 200 m map passing over `summary` and `header` objects.
+    fn parse_line(line: &str, map_size_m: f64) -> Result<RoadInput, InputError> {
+        let reader = RoadReader {
+            map_size_m,
+            passed_over: &["summary", "header"],
+        };
+        reader.read_line(line)
+    }
 
     #[test]
     fn accepts_every_road_form() {
@@ -191,6 +210,11 @@ mod tests {
             Err(InputError::NotJson(_))
         ));
         assert_eq!(parse_line(r#"{"a": 1}"#, 200.0), Err(InputError::NoRoad));
+        // A type the reader was not told to pass over is no road.
+        assert_eq!(
+            parse_line(r#"{"type": "train"}"#, 200.0),
+            Err(InputError::NoRoad)
+        );
         assert_eq!(parse_line("42", 200.0), Err(InputError::NoRoad));
     }
 }

@@ -11,6 +11,7 @@ mod geometry;
 pub mod heading_profile;
 pub mod input;
 pub mod polyline;
+mod road_shape;
 pub mod spline;
 
 /// A point on the map, metres: `[x, y]`, x east, y north.
@@ -19,4 +20,5 @@ pub type Point = [f64; 2];
 pub use curvature::{CurvatureRoad, RoadPlacement};
 pub use features::RoadFeatures;
 pub use geometry::{Road, RoadError, LANE_WIDTH_M, ROAD_WIDTH_M};
-pub use input::{InputError, RoadInput};
+pub use input::{InputError, RoadInput, RoadReader};
+pub use road_shape::RoadShape;

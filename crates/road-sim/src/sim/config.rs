@@ -13,7 +13,7 @@ pub const MAX_PHYSICS_HZ: f64 = 1000.0;
 pub const MAX_SIM_TIME_S: f64 = 3600.0;
 
 /// How a drive is simulated and judged. The defaults are `beamng-ai-proxy`'s; each driver's
-/// preset ([`crate::driver::DriverPreset`]) sets its own speed limit and tolerance.
+/// competition setup ([`crate::driver::CompetitionSetup`]) sets its own speed limit and tolerance.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimConfig {

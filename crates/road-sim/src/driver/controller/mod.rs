@@ -8,24 +8,16 @@
 
 pub mod protocol;
 
-use super::preset::DriverPreset;
-use crate::child_process::{ChildProcess, Fault};
 use crate::road::{polyline, Point, Road};
 use crate::setting_checks::{first_problem, SettingsError};
-use crate::sim::{Command, Driver, FitnessKind, Observation, VehicleParams};
+use crate::sim::{Command, Driver, Observation, VehicleParams};
 use crate::vision::{Camera, CameraParams, Frame, RoadScene};
+use child_process::{ChildProcess, Fault};
 use protocol::{parse_reply, CameraFrame, Message, PROTOCOL, VERSION};
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
-
-/// How a controller is judged unless told otherwise: the competition's BeamNG.AI experiment.
-pub const PRESET: DriverPreset = DriverPreset {
-    oob_tolerance: 0.85,
-    speed_limit_kmh: 70.0,
-    fitness: FitnessKind::Bolp,
-};
 
 /// A controller's settings (a config file's `driver` section); the command itself comes only from
 /// the command line.
@@ -150,7 +142,7 @@ pub struct ControllerDriver {
 }
 
 /// Never set: a controller's wait ends by its deadline, or at once when the process is stopping
-/// ([`crate::child_process::stop_all`]).
+/// ([`child_process::stop_all`]).
 static NEVER: AtomicBool = AtomicBool::new(false);
 
 impl ControllerDriver {

@@ -9,8 +9,8 @@
 //! Version 2 added the step's number to both lines: without it, a second reply to one step could
 //! pass for the reply to the next, and the car would be steered one step late from then on.
 
-use crate::child_process::Echo;
 use crate::road::Point;
+use child_process::Echo;
 use serde::Serialize;
 use serde_json::Value;
 

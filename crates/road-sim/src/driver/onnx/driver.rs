@@ -8,9 +8,7 @@ use super::contract::{CameraSetting, Contract, SteeringSide};
 use super::model::{Layout, ModelState, OnnxError, OnnxModel, MAX_SIDE, MIN_SIDE};
 use super::preprocessing::{ColourSpace, PixelScaling, Preprocessor};
 use super::throttle::{CompetitionThrottle, ThrottleRule};
-use crate::driver::dave2;
 use crate::driver::pedals::pedals;
-use crate::driver::preset::DriverPreset;
 use crate::road::Road;
 use crate::setting_checks::{all_non_negative, all_within, SettingsError};
 use crate::sim::{Command, Driver, Observation, VehicleParams};
@@ -18,10 +16,6 @@ use crate::vision::{Camera, Frame, RoadScene};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
-
-/// How a camera network is judged unless told otherwise: the competition's DAVE-2 experiment
-/// (dave2-proxy's preset).
-pub const PRESET: DriverPreset = dave2::PRESET;
 
 /// A camera network's settings (a config file's `driver` section); the model itself comes only
 /// from the command line. The defaults are the competition's DAVE-2 executor's.
@@ -394,6 +388,7 @@ impl Driver for OnnxDriver {
 mod tests {
     use super::*;
     use crate::driver::dave2::{embedded_weights, Dave2Driver, Dave2DriverParams};
+    use crate::driver::CompetitionSetup;
     use crate::sim::{simulate, Outcome, StopReason};
     use crate::vision::{CameraParams, Dave2Net};
     use std::path::PathBuf;
@@ -462,7 +457,7 @@ mod tests {
     #[test]
     fn the_fixture_drives_as_dave2_proxy() {
         let config = OnnxConfig::load(&fixture("dave2-proxy.onnx"), as_dave2_proxy()).unwrap();
-        let sim = PRESET.sim_config();
+        let sim = CompetitionSetup::Dave2.sim_config();
         for road in [
             bend(),
             Road::new(&[[100.0, 10.0], [90.0, 50.0], [110.0, 90.0], [100.0, 130.0]]).unwrap(),
@@ -506,7 +501,13 @@ mod tests {
         let [steering, throttle] = config.model().spawn().unwrap().run(&values).unwrap();
         assert!((steering - (mean - 128.0) / 128.0).abs() < 1e-5);
         assert_eq!(throttle, 0.5);
-        let r = simulate(&road, &mut config.build(), &PRESET.sim_config(), true, None);
+        let r = simulate(
+            &road,
+            &mut config.build(),
+            &CompetitionSetup::Dave2.sim_config(),
+            true,
+            None,
+        );
         assert_ne!(r.outcome, Outcome::Error);
         let trace = r.trace.unwrap();
         assert!(trace.iter().any(|s| s.speed_kmh > 5.0));
@@ -520,7 +521,7 @@ mod tests {
         let r = simulate(
             &bend(),
             &mut config.build(),
-            &PRESET.sim_config(),
+            &CompetitionSetup::Dave2.sim_config(),
             false,
             None,
         );

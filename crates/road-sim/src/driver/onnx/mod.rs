@@ -10,7 +10,7 @@ mod preprocessing;
 mod throttle;
 
 pub use contract::{CameraSetting, Contract, SteeringSide};
-pub use driver::{OnnxConfig, OnnxDriver, OnnxParams, PRESET};
+pub use driver::{OnnxConfig, OnnxDriver, OnnxParams};
 pub use model::{
     InputShape, Layout, ModelState, OnnxError, OnnxModel, MAX_MODEL_BYTES, MAX_SIDE, MIN_SIDE,
 };

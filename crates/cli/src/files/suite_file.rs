@@ -4,9 +4,9 @@
 //! ([`SuiteRoad`]: name, points, the recorded drive, the run it came from). Written whole at once,
 //! so a suite is never left half written; read strictly, naming the line and field at fault.
 
-use crate::json_lines::{json_values, open_input};
-use crate::records::{Record, SuiteHeader, SuiteRoad, SUITE_FORMAT, SUITE_VERSION};
-use crate::saved_roads::check_suite_header;
+use crate::files::json_lines::{json_values, open_input};
+use crate::files::records::{Record, SuiteHeader, SuiteRoad, SUITE_FORMAT, SUITE_VERSION};
+use crate::files::saved_roads::check_suite_header;
 use anyhow::{Context, Result};
 use road_sim::road::heading_profile::heading_profile;
 use road_sim::Road;
@@ -84,7 +84,7 @@ pub fn write(path: &Path, suite: &Suite) -> Result<()> {
         ))?);
         text.push('\n');
     }
-    crate::output_file::write(path, text.as_bytes())
+    crate::files::output_file::write(path, text.as_bytes())
         .with_context(|| format!("cannot write the suite {}", path.display()))
 }
 

@@ -170,10 +170,20 @@ pub fn fitness_kind(name: &str) -> Result<FitnessKind, String> {
 
 /// Where roads lie on the map, by the name a run file records (`bottom-centre` or `fitted`).
 pub fn road_placement(name: &str) -> Result<road_sim::RoadPlacement, String> {
-    use serde::de::{value, Deserialize, IntoDeserializer};
-    // The names are the run file's: serde's, written once on the type.
+    by_file_name(name, "road placement")
+}
+
+/// How a search compares roads: `headings` or `directions` (`--road-shape`).
+pub fn road_shape(name: &str) -> Result<road_sim::road::RoadShape, String> {
+    by_file_name(name, "road shape")
+}
+
+/// The value of a unit enum named as the run file names it: serde's names, written once on the
+/// type; the error lists them.
+fn by_file_name<T: serde::de::DeserializeOwned>(name: &str, what: &str) -> Result<T, String> {
+    use serde::de::{value, IntoDeserializer};
     let names: value::StrDeserializer<'_, value::Error> = name.into_deserializer();
-    road_sim::RoadPlacement::deserialize(names).map_err(|e| format!("road placement: {e}"))
+    T::deserialize(names).map_err(|e| format!("{what}: {e}"))
 }
 
 /// How WOGAN's acceptance target carries over within a round of tests chosen at once:
@@ -246,6 +256,11 @@ mod tests {
             road_placement("fitted"),
             Ok(road_sim::RoadPlacement::Fitted)
         );
+        assert_eq!(
+            road_shape("directions"),
+            Ok(road_sim::road::RoadShape::Directions)
+        );
+        assert!(road_shape("angles").unwrap_err().contains("headings"));
         let unknown = road_placement("centre").unwrap_err();
         assert!(
             unknown.contains("bottom-centre") && unknown.contains("fitted"),

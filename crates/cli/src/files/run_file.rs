@@ -1,10 +1,10 @@
-//! Reading the JSON lines of one `wogan run` (through [`crate::records`]): its header, test
+//! Reading the JSON lines of one `wogan run` (through [`crate::files::records`]): its header, test
 //! records and (when the run finished) its summary. Bad lines are collected with their file and
 //! line number, never fatal.
 
-use crate::json_lines::{numbered_lines, open_input};
-pub use crate::records::TestRecord;
-use crate::records::{Header, Record, SummaryRecord};
+use crate::files::json_lines::{numbered_lines, open_input};
+pub use crate::files::records::TestRecord;
+use crate::files::records::{Header, Record, SummaryRecord};
 use anyhow::Result;
 use road_sim::DriverKind;
 use serde_json::Value;

@@ -4,10 +4,10 @@
 //! folder of those. Each road keeps what was recorded of its drive, so that a replay can say what
 //! changed.
 
-use crate::json_lines::{json_values, open_input};
-use crate::records::{SuiteHeader, SuiteRoad, SUITE_FORMAT, SUITE_VERSION};
+use super::road_input::road_reader;
+use crate::files::json_lines::{json_values, open_input};
+use crate::files::records::{SuiteHeader, SuiteRoad, SUITE_FORMAT, SUITE_VERSION};
 use crate::sbst::format::test_files;
-use road_sim::road::input::parse_value;
 use road_sim::road::Point;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -173,7 +173,9 @@ fn saved_road(value: &Value, map_size_m: f64) -> Result<Option<Found>, String> {
                 None,
             ),
         };
-    let road = parse_value(value, map_size_m).map_err(|e| e.to_string())?;
+    let road = road_reader(map_size_m)
+        .read_value(value)
+        .map_err(|e| e.to_string())?;
     let points = road
         .points()
         .ok_or_else(|| "holds no road".to_owned())?

@@ -5,6 +5,9 @@
 //! name the request they answer ([`Echo`]), so that a second answer to one request is never taken
 //! for the answer to the next. Dropping it writes its farewell line, closes its input, and kills
 //! and reaps it if it does not end at once: no zombie.
+//!
+//! Two users share it, each with its own protocol on top: road-sim's controller driver
+//! (`--oracle cmd:...`) and the cli's executor (`wogan run --executor cmd:...`).
 
 use serde::Serialize;
 use std::collections::VecDeque;

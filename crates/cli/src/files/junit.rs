@@ -118,7 +118,7 @@ pub fn write_report(
     let text = report
         .to_string()
         .context("cannot encode the JUnit report")?;
-    crate::output_file::write(path, text.as_bytes())
+    crate::files::output_file::write(path, text.as_bytes())
         .with_context(|| format!("cannot write the JUnit report {}", path.display()))
 }
 

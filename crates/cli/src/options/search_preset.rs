@@ -4,9 +4,10 @@
 //! The defaults stay the paper's WOGAN, so that parity with the authors' implementation holds;
 //! a preset is a measured choice for a purpose, and its figures are in docs/results.md.
 
-use crate::road_sut::RoadShape;
 use road_sim::distinct::DELTA_RAD;
+use road_sim::driver::CompetitionSetup;
 use road_sim::road::curvature::DEFAULT_STEP_M;
+use road_sim::road::RoadShape;
 use road_sim::{DriverKind, RoadPlacement};
 use wogan_core::{BetweenNiches, MutationConfig, NicheConfig, NoveltyConfig, RunConfig};
 
@@ -23,25 +24,6 @@ pub enum SearchPreset {
     /// `sbst` without niches, on shorter roads: more failures, all alike as whole roads
     /// (docs/results.md, "The SBST 2022 field").
     SbstNoNiches,
-}
-
-/// The SBST competition's two setups, for which the SBST presets were measured apart: BeamNG.AI
-/// (tolerance 0.85, 70 km/h: `beamng-ai-proxy` and controllers) and DAVE-2 (tolerance 0.1,
-/// 25 km/h: `dave2-proxy` and ONNX camera networks).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum CompetitionSetup {
-    BeamNgAi,
-    Dave2,
-}
-
-impl CompetitionSetup {
-    /// The setup whose defaults `driver` takes.
-    fn of(driver: DriverKind) -> Self {
-        match driver {
-            DriverKind::BeamNgAiProxy | DriverKind::Controller => Self::BeamNgAi,
-            DriverKind::Dave2Proxy | DriverKind::Onnx => Self::Dave2,
-        }
-    }
 }
 
 /// The roads a preset makes, each setting unless its option says otherwise.

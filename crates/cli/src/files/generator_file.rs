@@ -9,9 +9,9 @@
 //! networks ([`ModelSnapshot`]). A file of another layout, a foreign or truncated file, or one
 //! whose checksum does not match is refused with the reason, before anything is sampled.
 
-use crate::records::VERSION as WOGAN_VERSION;
-use crate::road_sut::RoadShape;
+use crate::files::records::VERSION as WOGAN_VERSION;
 use anyhow::{bail, Context, Result};
+use road_sim::road::RoadShape;
 use road_sim::CurvatureRoad;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -80,7 +80,7 @@ pub fn write(path: &Path, payload: GeneratorPayload) -> Result<()> {
         payload,
     };
     let text = serde_json::to_string(&file).context("cannot encode the generator")?;
-    crate::output_file::write(path, (text + "\n").as_bytes())
+    crate::files::output_file::write(path, (text + "\n").as_bytes())
         .with_context(|| format!("cannot write the generator {}", path.display()))
 }
 

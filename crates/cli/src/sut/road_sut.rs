@@ -4,56 +4,17 @@
 //! chosen driver along the road and scores the drive with the chosen fitness. This adapter is the
 //! one place that knows both the search and the roads.
 
-use crate::failure_streak::FailureStreak;
-use crate::records::RoadExecution;
+use crate::files::records::RoadExecution;
+use crate::sut::failure_streak::FailureStreak;
 use road_sim::distinct::ExitProfile;
 use road_sim::road::curvature::MAX_CURVATURE_PER_M;
-use road_sim::road::diversity_profile::diversity_profile;
-use road_sim::road::heading_profile::{heading_profile, largest_turn_rad};
+use road_sim::road::heading_profile::largest_turn_rad;
+use road_sim::road::RoadShape;
 use road_sim::{
     simulate, CurvatureRoad, DriverConfig, FitnessKind, Road, SimConfig, StopReason, Validator,
 };
 use std::sync::atomic::AtomicBool;
 use wogan_core::{Execution, Sut};
-
-/// How the niches and the shape novelty rule compare roads (`--road-shape`).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    Default,
-    PartialEq,
-    Eq,
-    clap::ValueEnum,
-    serde::Serialize,
-    serde::Deserialize,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum RoadShape {
-    /// The heading profile: headings unwrapped, at points evenly spaced by arc length; it
-    /// changes continuously with the road.
-    #[default]
-    Headings,
-    /// The WOGAN authors' diversity description: directions from north, not unwrapped, so that
-    /// roads far apart by the paper's diversity are far apart here too.
-    Directions,
-}
-
-impl RoadShape {
-    /// Whether this is the default, [`RoadShape::Headings`] (files written before there was a
-    /// choice say nothing).
-    pub fn is_headings(&self) -> bool {
-        *self == Self::Headings
-    }
-
-    /// The description of the road through `interpolated` (radians).
-    pub fn profile(self, interpolated: &[road_sim::road::Point]) -> Vec<f64> {
-        match self {
-            Self::Headings => heading_profile(interpolated),
-            Self::Directions => diversity_profile(interpolated),
-        }
-    }
-}
 
 /// Roads from curvature vectors, judged by one driver.
 #[derive(Clone)]
@@ -172,33 +133,6 @@ impl Sut for RoadSut<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::PI;
-
-    /// A road along a circle of `radius_m` through `turn_rad`, points about 1 m apart.
-    fn arc(radius_m: f64, turn_rad: f64) -> Vec<road_sim::road::Point> {
-        let points = (radius_m * turn_rad).ceil() as usize + 1;
-        (0..points)
-            .map(|i| {
-                let angle = turn_rad * i as f64 / (points - 1) as f64;
-                [radius_m * (1.0 - angle.cos()), radius_m * angle.sin()]
-            })
-            .collect()
-    }
-
-    #[test]
-    fn directions_wrap_where_headings_go_on_past_half_a_turn() {
-        let road = arc(40.0, 1.5 * PI);
-        let headings = RoadShape::Headings.profile(&road);
-        let directions = RoadShape::Directions.profile(&road);
-        assert_eq!(headings, heading_profile(&road));
-        assert_eq!(directions, diversity_profile(&road));
-        let largest = |profile: &[f64]| profile.iter().fold(0.0_f64, |m, h| m.max(h.abs()));
-        assert!(largest(&headings) > 4.0, "headings unwrapped: {headings:?}");
-        assert!(
-            largest(&directions) <= PI,
-            "directions wrapped: {directions:?}"
-        );
-    }
 
     #[test]
     fn a_least_turn_rejects_valid_roads_that_turn_less() {
@@ -231,13 +165,5 @@ mod tests {
         assert!(!sut(0.5).is_valid(&straight));
         assert!(sut(turn - 0.05).is_valid(&bend));
         assert!(!sut(turn + 0.05).is_valid(&bend));
-    }
-
-    #[test]
-    fn the_default_shape_is_the_heading_profile_and_shapes_are_written_by_name() {
-        assert_eq!(RoadShape::default(), RoadShape::Headings);
-        assert!(RoadShape::default().is_headings());
-        let written = serde_json::to_string(&RoadShape::Directions).unwrap();
-        assert_eq!(written, "\"directions\"");
     }
 }

@@ -74,7 +74,7 @@ pub struct Header<C = serde_json::Value> {
     pub driver: DriverKind,
     /// What the search maximised.
     pub fitness: FitnessKind,
-    /// Every setting, resolved (see `plan::RunSettings`).
+    /// Every setting, resolved (see `options::run_plan::RunSettings`).
     pub config: C,
 }
 

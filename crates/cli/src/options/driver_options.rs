@@ -1,7 +1,7 @@
 //! Options that choose and configure the driver under test, shared by `simulate` and `run`.
 
-use crate::config_file::{self, ConfigFile};
-use crate::value_parsers::{map_size_m, oracle, positive_kmh, share, Oracle};
+use crate::options::config_file::{self, ConfigFile};
+use crate::options::value_parsers::{map_size_m, oracle, positive_kmh, share, Oracle};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::driver::{
@@ -9,7 +9,7 @@ use road_sim::driver::{
     OnnxParams,
 };
 use road_sim::vision::Dave2Weights;
-use road_sim::{DriverConfig, DriverKind, SimConfig};
+use road_sim::{CompetitionSetup, DriverConfig, DriverKind, SimConfig};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -60,11 +60,11 @@ impl DriverOptions {
     }
 
     /// The simulation settings and the driver these options and `file` ask for: the driver's
-    /// preset and default tuning, the file's `sim` and `driver` sections laid over them, then
+    /// competition setup and default tuning, the file's `sim` and `driver` sections laid over them, then
     /// the command line's options; or names the first setting that cannot be used.
     pub fn resolve(&self, file: &ConfigFile) -> Result<(SimConfig, DriverConfig)> {
-        let preset = self.kind().preset().sim_config();
-        let sim = self.apply_to(config_file::lay_over(file.sim.as_ref(), preset, "sim")?);
+        let setup = CompetitionSetup::of(self.kind()).sim_config();
+        let sim = self.apply_to(config_file::lay_over(file.sim.as_ref(), setup, "sim")?);
         sim.validate().context("invalid simulation settings")?;
         let driver = self.driver_config(file.driver.as_ref())?;
         driver.validate().context("invalid driver settings")?;

@@ -1,8 +1,8 @@
 //! JSON lines in and out: numbered input lines from a file or stdin, and records
-//! ([`crate::records`]) written to stdout (or a file) one per line, each flushed as soon as it is
+//! ([`crate::files::records`]) written to stdout (or a file) one per line, each flushed as soon as it is
 //! written.
 
-use crate::records::{Header, Record};
+use crate::files::records::{Header, Record};
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use std::fs::File;

@@ -5,19 +5,24 @@
 //!
 //! Precedence, lowest first: the paper's and the driver's defaults, the config file, the options.
 
-use crate::config_file::{self, ConfigFile};
-use crate::driver_options::{DriverOptions, DEFAULT_MAP_SIZE_M};
-use crate::executor::ExecutorSettings;
-use crate::generator_file::{self, GeneratorPayload};
-use crate::output_file::same_file;
-use crate::records::{Header, VERSION};
-use crate::road_sut::RoadShape;
-use crate::search_preset::SearchPreset;
-use crate::value_parsers::{budget_duration, fitness_kind, fraction, road_placement, share};
+use crate::files::generator_file::{self, GeneratorPayload};
+use crate::files::output_file::same_file;
+use crate::files::records::{Header, VERSION};
+use crate::options::config_file::{self, ConfigFile};
+use crate::options::driver_options::{DriverOptions, DEFAULT_MAP_SIZE_M};
+use crate::options::search_preset::SearchPreset;
+use crate::options::value_parsers::{
+    budget_duration, fitness_kind, fraction, road_placement, road_shape, share,
+};
+use crate::sut::ExecutorSettings;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use road_sim::road::curvature::DEFAULT_STEP_M;
-use road_sim::{CurvatureRoad, DriverConfig, DriverKind, FitnessKind, RoadPlacement, SimConfig};
+use road_sim::road::RoadShape;
+use road_sim::{
+    CompetitionSetup, CurvatureRoad, DriverConfig, DriverKind, FitnessKind, RoadPlacement,
+    SimConfig,
+};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -58,7 +63,7 @@ pub struct RunArgs {
     /// With --jobs above 1, how WOGAN's acceptance target carries over between the tests of a
     /// round: restart (from 1, as a test alone) or continue (from where the last choice left it)
     /// [default: restart].
-    #[arg(long, value_parser = crate::value_parsers::round_acceptance)]
+    #[arg(long, value_parser = crate::options::value_parsers::round_acceptance)]
     pub round_acceptance: Option<wogan_core::RoundAcceptance>,
     /// What the search maximises: bolp, bolp-scaled or distance [default: bolp, the paper's].
     #[arg(long, value_parser = fitness_kind)]
@@ -81,15 +86,15 @@ pub struct RunArgs {
     /// How the niches and the shape novelty rule compare roads: `headings` (the heading profile,
     /// unwrapped) or `directions` (the WOGAN authors' diversity description: directions from
     /// north, not unwrapped) [default: headings, or the preset's].
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = road_shape)]
     pub road_shape: Option<RoadShape>,
     /// Test only roads that turn at least this far from their first heading somewhere, radians,
     /// 0 to 6.283 (a narrower search, not a rule of the competition) [default: 0, any road, or
     /// the preset's].
-    #[arg(long, value_name = "RAD", value_parser = crate::value_parsers::turn_rad)]
+    #[arg(long, value_name = "RAD", value_parser = crate::options::value_parsers::turn_rad)]
     pub min_road_turn: Option<f64>,
     /// Distance between road points, metres [default: 15, the paper's, or the preset's].
-    #[arg(long, value_parser = crate::value_parsers::step_length_m, allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::options::value_parsers::step_length_m, allow_negative_numbers = true)]
     pub step_length: Option<f64>,
     /// Share of the budget spent on the initial random search [default: 0.2].
     #[arg(long, value_parser = fraction, allow_negative_numbers = true)]
@@ -296,10 +301,10 @@ impl RunPlan {
             }
         }
         let kind = args.driver.kind();
-        let preset = kind.preset();
+        let setup = CompetitionSetup::of(kind);
         let file = ConfigFile::read_for(args.config.as_deref(), kind)?;
         let (sim, driver) = args.driver.resolve(&file)?;
-        let fitness = args.fitness.unwrap_or(preset.fitness);
+        let fitness = args.fitness.unwrap_or(setup.fitness());
         if args.executor.is_some() && fitness == FitnessKind::Distance {
             bail!("--fitness distance needs the lane distances of wogan's simulator; an executor reports BOLP: use bolp or bolp-scaled");
         }

@@ -5,11 +5,11 @@
 //! starts a new one. After too many failed roads in a row ([`FailureStreak`]) the run is stopped,
 //! with every finished test written.
 
-use super::protocol::{parse_answer, Answer, Request, PROTOCOL, VERSION};
-use crate::failure_streak::FailureStreak;
-use crate::records::RoadExecution;
-use crate::road_sut::RoadSut;
-use road_sim::child_process::{ChildProcess, Fault};
+use super::executor_protocol::{parse_answer, Answer, Request, PROTOCOL, VERSION};
+use crate::files::records::RoadExecution;
+use crate::sut::failure_streak::FailureStreak;
+use crate::sut::road_sut::RoadSut;
+use child_process::{ChildProcess, Fault};
 use road_sim::oob::sbst_side;
 use road_sim::road::features::RoadFeatures;
 use road_sim::{FitnessKind, LaneExit, Outcome, Road, SimConfig, SimResult};

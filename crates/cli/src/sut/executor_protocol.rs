@@ -12,7 +12,7 @@
 //! Version 2 added the answer's `id`: without it, a second line for one road could be taken for the
 //! answer to the next, and every answer after it would be one road late.
 
-use road_sim::child_process::Echo;
+use child_process::Echo;
 use road_sim::{Outcome, Point};
 use serde::Serialize;
 use serde_json::Value;
@@ -205,6 +205,27 @@ pub fn parse_answer(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lines_without_a_road_are_passed_over_by_the_road_readers() {
+        // `wogan simulate` serves as an executor: it must pass over `hello` and `bye`.
+        let hello = Request::Hello {
+            protocol: PROTOCOL,
+            version: VERSION,
+            units: "m,s",
+            map_size_m: 200.0,
+            oob_tolerance: 0.85,
+            speed_limit_kmh: 70.0,
+        };
+        for request in [hello, Request::Bye] {
+            let line = serde_json::to_value(&request).unwrap();
+            let kind = line["type"].as_str().unwrap();
+            assert!(
+                crate::files::road_input::PASSED_OVER.contains(&kind),
+                "{kind}"
+            );
+        }
+    }
 
     #[test]
     fn answers_are_checked_field_by_field() {

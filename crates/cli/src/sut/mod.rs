@@ -1,0 +1,13 @@
+//! What the search drives: the self-driving-car problem as `wogan-core`'s system under test, in
+//! two kinds. [`road_sut`] drives a road in wogan's simulator with a built-in or plugged-in
+//! driver; [`executor_sut`] hands it to an executor, an external program that drives it in any
+//! simulator and answers with the result (`wogan run --executor cmd:"COMMAND"`), over the
+//! versioned protocol of [`executor_protocol`] (docs/reference.md has the specification and a full
+//! exchange). Both give up after a streak of failed drives ([`failure_streak`]).
+
+pub mod executor_protocol;
+pub mod executor_sut;
+pub mod failure_streak;
+pub mod road_sut;
+
+pub use executor_sut::{ExecutorSettings, ExecutorSut};
