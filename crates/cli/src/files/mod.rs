@@ -4,6 +4,7 @@
 //! never over an input.
 
 pub mod generator_file;
+pub mod header_settings;
 pub mod json_lines;
 pub mod junit;
 pub mod output_file;

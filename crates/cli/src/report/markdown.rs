@@ -5,18 +5,9 @@ use super::group::{
     FeatureCoverage, GroupFigures, Measure, Spread, MAX_CURV_BIN_PER_M, MEAN_LP_BIN_M,
     STD_SA_BIN_DEG,
 };
+use super::pictures::Pictures;
 use super::stats::{mann_whitney, PMethod};
 use std::fmt::Write;
-
-/// File names of a group's pictures (relative to the report).
-pub struct Pictures {
-    /// The failing roads on the map.
-    pub roads: String,
-    /// The max-BOLP histogram.
-    pub bolp: String,
-    /// Fitness over each run, in input order.
-    pub fitness: Vec<String>,
-}
 
 /// One group as the report shows it.
 pub struct GroupSection {

@@ -3,20 +3,19 @@
 //! picture of one simulation trace.
 //!
 //! A group is a sample of one condition: without `--vs` runs are grouped by their configuration
-//! ([`RunKey`](crate::files::run_file::RunKey)); with `--vs` each of the two groups given must be of one
+//! ([`RunKey`](run_key::RunKey)); with `--vs` each of the two groups given must be of one
 //! driver, failure threshold and speed limit, and a file given twice counts once.
 
 mod group;
 mod inputs;
 mod markdown;
 mod pictures;
-mod plots;
+mod run_key;
 mod runs_report;
 mod stats;
 mod tables;
-mod trace_plot;
 
 pub use inputs::listed_paths;
+pub use pictures::trace_picture;
 pub use runs_report::runs_report;
 pub use tables::runs_tables;
-pub use trace_plot::trace_picture;

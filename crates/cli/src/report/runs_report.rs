@@ -5,7 +5,8 @@ use super::group::{GroupFigures, RunMeasures};
 use super::inputs::{run_inputs, InputKind, RunInput};
 use super::markdown::{self, GroupSection};
 use super::pictures::draw_group;
-use crate::files::run_file::{read_run, RunFile, RunKey};
+use super::run_key::RunKey;
+use crate::files::run_file::{read_run, RunFile};
 use crate::sbst::read_result_folder;
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
@@ -110,7 +111,7 @@ pub(super) fn group_runs(a_paths: &[PathBuf], b_paths: &[PathBuf], keep: Keep) -
         for (run, measured) in a.into_iter().zip(a_measures) {
             if let Some(header) = &run.header {
                 by_key
-                    .entry(header.key.clone())
+                    .entry(RunKey::of(header))
                     .or_default()
                     .push((run, measured));
             }
@@ -249,7 +250,12 @@ fn refuse_files_on_both_sides(a: &[GivenFile], b: &[GivenFile]) -> Result<()> {
 fn like_with_like(group: &str, runs: &[RunFile]) -> Result<()> {
     let conditions: Vec<(&Path, String)> = runs
         .iter()
-        .filter_map(|r| Some((r.path.as_path(), r.header.as_ref()?.key.conditions())))
+        .filter_map(|r| {
+            Some((
+                r.path.as_path(),
+                RunKey::of(r.header.as_ref()?).conditions(),
+            ))
+        })
         .collect();
     let distinct: BTreeSet<&str> = conditions.iter().map(|(_, c)| c.as_str()).collect();
     if distinct.len() <= 1 {
@@ -271,7 +277,7 @@ fn like_with_like(group: &str, runs: &[RunFile]) -> Result<()> {
 fn note_different_conditions(a: &[RunFile], b: &[RunFile]) {
     let condition = |runs: &[RunFile]| {
         runs.iter()
-            .find_map(|r| Some(r.header.as_ref()?.key.conditions()))
+            .find_map(|r| Some(RunKey::of(r.header.as_ref()?).conditions()))
     };
     if let (Some(a), Some(b)) = (condition(a), condition(b)) {
         if a != b {
@@ -318,7 +324,7 @@ fn labels(runs: &[RunFile]) -> String {
     let mut keys: Vec<String> = runs
         .iter()
         .filter_map(|r| r.header.as_ref())
-        .map(|h| h.key.label())
+        .map(|h| RunKey::of(h).label())
         .collect();
     keys.sort();
     keys.dedup();

@@ -217,7 +217,7 @@ pub fn oob_tests(run: &RunFile) -> Result<Vec<SbstTest>, OobSummaryError> {
 
 /// The pipeline's `OOBAnalyzer` summary of `run`'s kept tests.
 pub fn oob_summary(run: &RunFile) -> Result<OobSummary, OobSummaryError> {
-    Ok(oob::analyse(&oob_tests(run)?)?)
+    Ok(oob::summarise_tests(&oob_tests(run)?)?)
 }
 
 /// The outcome as a test file spells it.

@@ -13,7 +13,8 @@
 //! - [`segment`]: the side of an OOB and its interesting segment, 30 m each way;
 //! - [`edit_distance`]: the weighted Levenshtein distance between two segments;
 //! - [`mod@sparseness`]: per-test maximum distances, their mean and SD, and the summary CSV;
-//! - [`analyzer`]: the pipeline's `OOBAnalyzer`, which tests count and their summary.
+//! - [`summary`]: what the pipeline's `OOBAnalyzer` does with them: which tests count and their
+//!   summary. (In wogan "analyzer" is WOGAN's network; the pipeline's class keeps its name.)
 //!
 //! Which tests count ([`entries`]): valid tests whose `test_outcome` is exactly `"FAIL"`. Their
 //! road is resampled first; if that fails the test counts as an OOB with no side and no segment
@@ -21,7 +22,6 @@
 //! and one whose segment cannot be built counts with no side and no segment. No side counts as
 //! right; no segment fails the sparseness of any set of two or more OOBs ([`OobError::Pair`]).
 
-pub mod analyzer;
 pub mod edit_distance;
 mod entry;
 mod error;
@@ -29,14 +29,15 @@ pub mod geometry;
 pub mod resample;
 pub mod segment;
 pub mod sparseness;
+pub mod summary;
 
 #[cfg(test)]
 mod reference;
 
-pub use analyzer::{analyse, entries, entry_of, summarise};
 pub use edit_distance::segment_distance;
 pub use entry::{OobEntry, OobSummary, SbstTest};
 pub use error::OobError;
 pub use resample::resample;
 pub use segment::{interesting_segment, sbst_side, SbstSide};
 pub use sparseness::{sparseness, summary_csv, Sparseness};
+pub use summary::{entries, entry_of, summarise, summarise_tests};

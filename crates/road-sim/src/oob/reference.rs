@@ -156,9 +156,9 @@ fn directories_agree_with_the_pipeline() {
         let summary = summarise(&ours);
         // Debug text, since NaN sparseness is not equal to itself.
         assert_eq!(
-            format!("{:?}", analyse(&tests)),
+            format!("{:?}", summarise_tests(&tests)),
             format!("{summary:?}"),
-            "{name}: analyse and summarise differ"
+            "{name}: summarise_tests and summarise differ"
         );
         if dir["error"].is_null() {
             let summary = summary.unwrap_or_else(|e| panic!("{name}: {e}"));

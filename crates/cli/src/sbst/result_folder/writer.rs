@@ -3,11 +3,13 @@
 //! summary). The execution records come from driving each test again with the run's settings,
 //! checked to replay the recorded drive exactly.
 
-use super::format::{description, execution_data, test_file_number, CompetitionTest, Features};
-use super::metrics::{oob_summary, GenerationStats};
 use crate::files::records::TestRecord;
 use crate::files::run_file::{RunFile, RunHeader};
 use crate::options::driver_options::driver_config;
+use crate::sbst::format::{
+    description, execution_data, test_file_number, CompetitionTest, Features,
+};
+use crate::sbst::metrics::{oob_summary, GenerationStats};
 use anyhow::{bail, Context, Result};
 use road_sim::{simulate, DriverConfig, Road, SimConfig, SimResult, Validator};
 use std::path::{Path, PathBuf};

@@ -1,7 +1,8 @@
 //! A picture of one simulation from a `wogan simulate --trace` file: the car's path over the road
 //! (coloured by BOLP), and BOLP and speed over time, in one SVG.
 
-use super::plots::{draw_map_mesh, plot_error, road_outline, titled};
+use super::layout::{plot_error, titled};
+use super::road_map::{draw_map_mesh, road_outline};
 use crate::files::json_lines::{numbered_lines, open_input};
 use crate::files::records::TraceRecord;
 use anyhow::{anyhow, Result};

@@ -20,10 +20,11 @@
 //! Without it (a bare pipeline folder, an export) the algorithm is the folder's name and the rest
 //! read `?`: nothing is guessed.
 
-use super::format::{test_file_number, test_files, FIELDS};
+use crate::files::header_settings::HeaderSettings;
 use crate::files::records::{RoadExecution, SummaryRecord, TestRecord};
 use crate::files::road_input::road_reader;
-use crate::files::run_file::{key_text, RunFile, RunHeader, RunKey};
+use crate::files::run_file::{RunFile, RunHeader};
+use crate::sbst::format::{test_file_number, test_files, FIELDS};
 use anyhow::{Context, Result};
 use road_sim::oob::geometry::distance_to_line;
 use road_sim::oob::sbst_side;
@@ -147,18 +148,14 @@ fn folder_header(dir: &Path, problems: &mut Vec<String>) -> (RunHeader, HarnessE
     let oob = summary.get("oob_tolerance");
     let speed = summary.get("speed_limit");
     let header = RunHeader {
-        key: RunKey {
-            algorithm: format!("{ALGORITHM_PREFIX}{name}"),
-            driver: key_text(oracle),
-            // The pipeline's generators maximise no fitness of ours.
-            fitness: "-".to_owned(),
-            oob_tolerance: key_text(oob),
-            speed_limit_kmh: key_text(speed),
-            acceptance: String::new(),
-            roads: String::new(),
-        },
+        algorithm: format!("{ALGORITHM_PREFIX}{name}"),
+        simulator: oracle.and_then(Value::as_str).unwrap_or("?").to_owned(),
+        // The pipeline's generators maximise no fitness of ours.
+        fitness: None,
         seed: summary.get("seed").and_then(Value::as_u64),
         oob_tolerance: oob.and_then(Value::as_f64),
+        speed_limit_kmh: speed.and_then(Value::as_f64),
+        settings: HeaderSettings::default(),
         map_size_m: MAP_SIZE_M,
         // Only the key's name is reported; a report never drives a test again.
         driver: oracle
@@ -482,10 +479,15 @@ mod tests {
             ],
         );
         let run = read_result_folder(&dir).unwrap();
-        let key = &run.header.as_ref().unwrap().key;
+        let header = run.header.as_ref().unwrap();
         assert_eq!(
-            key.label(),
-            "sbst:FreneticV / dave2-proxy / fitness - / oob 0.1 / 25.0 km/h"
+            (header.algorithm.as_str(), header.simulator.as_str()),
+            ("sbst:FreneticV", "dave2-proxy")
+        );
+        assert_eq!(header.fitness, None);
+        assert_eq!(
+            (header.oob_tolerance, header.speed_limit_kmh),
+            (Some(0.1), Some(25.0))
         );
         assert_eq!(run.header.as_ref().unwrap().seed, Some(4));
         let ids: Vec<usize> = run.tests.iter().map(|t| t.id).collect();
@@ -495,7 +497,7 @@ mod tests {
         assert!(!summary.interrupted);
         // The pipeline's totals: three invalid tests generated, two valid.
         assert_eq!(run.pipeline_invalid, 3);
-        let stats = super::super::metrics::GenerationStats::of(&run);
+        let stats = crate::sbst::metrics::GenerationStats::of(&run);
         assert_eq!((stats.generated, stats.valid, stats.invalid), (5, 2, 3));
         let failed = &run.tests[1].execution.result;
         assert_eq!(failed.reason, Some(StopReason::OutOfLane));
@@ -535,9 +537,10 @@ mod tests {
         assert!(run.problems.is_empty(), "{:?}", run.problems);
         let header = run.header.unwrap();
         assert_eq!(
-            header.key.label(),
-            "sbst:adafrenetic.2 / ? / fitness - / oob ? / ? km/h"
+            (header.algorithm.as_str(), header.simulator.as_str()),
+            ("sbst:adafrenetic.2", "?")
         );
+        assert_eq!((header.oob_tolerance, header.speed_limit_kmh), (None, None));
         assert_eq!(header.seed, None);
         assert!(!run.summary.unwrap().interrupted);
         assert!(is_result_folder(&dir));

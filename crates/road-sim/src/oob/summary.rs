@@ -1,4 +1,4 @@
-//! The pipeline's `OOBAnalyzer`: which tests count as OOBs, the entry of each, and the summary
+//! What the pipeline's `OOBAnalyzer` makes of a set of tests: which count as OOBs, the entry of each, and the summary
 //! (`total_oob,left_oob,right_oob,avg_sparseness,stdev_sparseness`) of a set of them.
 
 use super::entry::{OobEntry, OobSummary, SbstTest};
@@ -60,7 +60,7 @@ pub fn summarise(entries: &[OobEntry]) -> Result<OobSummary, OobError> {
 }
 
 /// The pipeline's summary of a result directory's tests, given in its order.
-pub fn analyse(tests: &[SbstTest]) -> Result<OobSummary, OobError> {
+pub fn summarise_tests(tests: &[SbstTest]) -> Result<OobSummary, OobError> {
     summarise(&entries(tests))
 }
 
@@ -101,7 +101,7 @@ mod tests {
         assert_eq!(found[1].failure, Some(OobError::TooFewRoadPoints(3)));
         // The failed entry meets the good one.
         assert!(matches!(
-            analyse(&tests),
+            summarise_tests(&tests),
             Err(OobError::Pair {
                 first: 5,
                 second: 6,
@@ -109,7 +109,7 @@ mod tests {
             })
         ));
         // Alone, it is one OOB on the right with no sparseness.
-        let alone = analyse(&tests[5..]).unwrap();
+        let alone = summarise_tests(&tests[5..]).unwrap();
         assert_eq!((alone.total, alone.left, alone.right), (1, 0, 1));
         assert_eq!(
             summary_csv(&alone),

@@ -1,20 +1,26 @@
 //! The pictures of a group of runs: its failing roads on the map, a BOLP histogram and each run's
 //! fitness over time.
 
-use super::markdown::Pictures;
-use super::plots::{bolp_histogram_svg, fitness_svg, roads_svg, MapRoad};
+use super::bolp_histogram::bolp_histogram_svg;
+use super::fitness_plot::fitness_svg;
+use super::road_map::{roads_svg, MapRoad};
 use crate::files::records::known;
 use crate::files::run_file::RunFile;
 use anyhow::Result;
 use std::path::Path;
 
+/// File names of a group's pictures (relative to the report).
+pub struct Pictures {
+    /// The failing roads on the map.
+    pub roads: String,
+    /// The max-BOLP histogram.
+    pub bolp: String,
+    /// Fitness over each run, in input order.
+    pub fitness: Vec<String>,
+}
+
 /// Draws a group's pictures into `out`, named after `slug`.
-pub(super) fn draw_group(
-    out: &Path,
-    slug: &str,
-    label: &str,
-    runs: &[&RunFile],
-) -> Result<Pictures> {
+pub fn draw_group(out: &Path, slug: &str, label: &str, runs: &[&RunFile]) -> Result<Pictures> {
     let map_size_m = runs
         .iter()
         .filter_map(|r| r.header.as_ref())
