@@ -8,7 +8,8 @@
 //! - [`vision`]: the camera's view of a road and DAVE-2's network;
 //! - [`sim`]: one drive, a car in a rapier3d world steered by a [`Driver`] and watched by the
 //!   lane monitor, ending in a [`SimResult`];
-//! - [`driver`]: the drivers under test, each with its preset and tuning;
+//! - [`driver`]: the drivers under test, each with its tuning, and the competition's setup each
+//!   is judged by;
 //! - [`oob`]: the SBST competition's analysis of out-of-bound episodes (sides, sparseness);
 //! - [`distinct`]: how many failing roads differ around where the car left its lane.
 //!

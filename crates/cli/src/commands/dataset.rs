@@ -3,18 +3,18 @@
 //! `driving_log.csv`), so that the course's training scripts and their many descendants read it.
 //!
 //! Each road (random valid roads by `--seed`, or the roads of a file) is driven by the driver under
-//! test (beamng-ai-proxy by default) with the run's sampling; every `1 / --record-hz` seconds of the
-//! drive the contract's camera renders three pictures at the car's pose: the centre camera and the
-//! left and right ones, offset sideways as the simulator's recording cameras are
+//! test (beamng-ai-proxy by default) with the run's sampling; every `1 / --record-hz` seconds of
+//! the drive the contract's camera renders three pictures at the car's pose: the centre camera and
+//! the left and right ones, offset sideways as the simulator's recording cameras are
 //! (udacity/self-driving-car-sim `CarWaypointBased.prefab`: 0.806 m left, 0.825 m right). A row is
-//! appended to `driving_log.csv` only once its three pictures are written, and flushed: a dataset cut
-//! short by Ctrl-C is a valid, shorter one.
+//! appended to `driving_log.csv` only once its three pictures are written, and flushed: a dataset
+//! cut short by Ctrl-C is a valid, shorter one.
 //!
 //! Labels, in the simulator's units: `steering` the car's wheel angle over the contract's full
 //! steering (±25° under `udacity`), positive the way the contract's networks turn (right under
-//! `udacity`), clamped to `[-1, 1]`; `throttle` and `brake` the driver's pedals in `[0, 1]`; `speed`
-//! in miles per hour. No header row, as the simulator writes none; picture paths relative to the
-//! dataset's folder.
+//! `udacity`), clamped to `[-1, 1]`; `throttle` and `brake` the driver's pedals in `[0, 1]`;
+//! `speed` in miles per hour. No header row, as the simulator writes none; picture paths relative
+//! to the dataset's folder.
 
 use super::Status;
 use crate::files::json_lines::open_input;

@@ -2,12 +2,12 @@
 //! `simulate`): read numbered lines, parse each as a road, answer it, and write the answer as soon
 //! as it is known, in input order.
 //!
-//! Answers stream: a line is answered as soon as it has been read, so another program can keep
-//! one `wogan simulate` as a child and feed it one road at a time. With `--jobs N`, the lines
-//! already read (up to N) are answered in parallel ([`crate::jobs`]). A reader thread reads ahead, so the loop can
-//! notice Ctrl-C or SIGTERM while waiting for input; then it writes what it has answered and ends.
-//! A JSON value spread over several lines (a pretty-printed competition test) is read as one
-//! input, answered under the number of its first line.
+//! Answers stream: a line is answered as soon as it has been read, so another program can keep one
+//! `wogan simulate` as a child and feed it one road at a time. With `--jobs N`, the lines already
+//! read (up to N) are answered in parallel ([`crate::jobs`]). A reader thread reads ahead, so the
+//! loop can notice Ctrl-C or SIGTERM while waiting for input; then it writes what it has answered
+//! and ends. A JSON value spread over several lines (a pretty-printed competition test) is read as
+//! one input, answered under the number of its first line.
 
 use super::Status;
 use crate::files::json_lines::{json_values, InputLine, JsonLinesWriter};

@@ -1,7 +1,7 @@
 //! `wogan sample`: valid, likely-failing roads from a saved generator (`wogan run
 //! --save-generator`), in seconds and without training. Each road is chosen as WOGAN chooses a test
-//! (generated candidates, invalid ones dropped, the rest ranked by the analyzer until one clears the
-//! decaying acceptance target); the roads are written ranked by the analyzer's prediction, best
+//! (generated candidates, invalid ones dropped, the rest ranked by the analyzer until one clears
+//! the decaying acceptance target); the roads are written ranked by the analyzer's prediction, best
 //! first, as JSON lines that `simulate` and `replay` read. Same file and seed, same roads. Ctrl-C
 //! ends the drawing and writes the roads drawn so far.
 

@@ -1,6 +1,6 @@
 //! JSON lines in and out: numbered input lines from a file or stdin, and records
-//! ([`crate::files::records`]) written to stdout (or a file) one per line, each flushed as soon as it is
-//! written.
+//! ([`crate::files::records`]) written to stdout (or a file) one per line, each flushed as soon as
+//! it is written.
 
 use crate::files::records::{Header, Record};
 use anyhow::{bail, Context, Result};

@@ -1,8 +1,8 @@
 //! JUnit XML reports of driven roads (written by quick-junit), the verdict format CI servers read:
-//! one `<testcase>` per road, a `<failure>` when the car left its lane (with BOLP, the reason, where
-//! it left and the road's points), an `<error>` when the drive itself broke down, `<skipped>` for
-//! an invalid road. Nothing but the `time` attributes depends on the machine, so two runs of the
-//! same seed give the same report but for timings.
+//! one `<testcase>` per road, a `<failure>` when the car left its lane (with BOLP, the reason,
+//! where it left and the road's points), an `<error>` when the drive itself broke down, `<skipped>`
+//! for an invalid road. Nothing but the `time` attributes depends on the machine, so two runs of
+//! the same seed give the same report but for timings.
 
 use anyhow::{Context, Result};
 use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};

@@ -3,9 +3,9 @@
 //! Each line is one object tagged by `"type"`. `run` writes a header, then test and train records
 //! as they happen, then a summary; `simulate` writes a result per road (and `--trace` files of road
 //! and sample records); `validate` a verdict per road; both write an error record for a line that
-//! holds no road; `train-driver` writes one driver record. `report` and `export` read run files back through the same types, so a field
-//! is named, typed and documented once. The library's enums travel as themselves (outcome, stop
-//! reason, validity reason, phase, algorithm, driver, fitness).
+//! holds no road; `train-driver` writes one driver record. `report` and `export` read run files
+//! back through the same types, so a field is named, typed and documented once. The library's enums
+//! travel as themselves (outcome, stop reason, validity reason, phase, algorithm, driver, fitness).
 //!
 //! Numbers round-trip exactly (serde_json's `float_roundtrip`). JSON has no NaN: serde_json writes
 //! a non-finite number as `null`, which reads back as NaN. Fields added after a record was first

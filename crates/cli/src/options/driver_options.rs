@@ -60,8 +60,8 @@ impl DriverOptions {
     }
 
     /// The simulation settings and the driver these options and `file` ask for: the driver's
-    /// competition setup and default tuning, the file's `sim` and `driver` sections laid over them, then
-    /// the command line's options; or names the first setting that cannot be used.
+    /// competition setup and default tuning, the file's `sim` and `driver` sections laid over them,
+    /// then the command line's options; or names the first setting that cannot be used.
     pub fn resolve(&self, file: &ConfigFile) -> Result<(SimConfig, DriverConfig)> {
         let setup = CompetitionSetup::of(self.kind()).sim_config();
         let sim = self.apply_to(config_file::lay_over(file.sim.as_ref(), setup, "sim")?);

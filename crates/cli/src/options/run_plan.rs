@@ -1,7 +1,7 @@
 //! `wogan run`'s options, and the plan they resolve to: what was typed (options and `--config`
-//! file) laid over the chosen driver's preset and the paper's defaults, resolved once into every
-//! setting the run uses. The run reads nothing else, and the plan's settings are what its header
-//! says.
+//! file) laid over the chosen driver's competition setup and the paper's defaults, resolved once
+//! into every setting the run uses. The run reads nothing else, and the plan's settings are what
+//! its header says.
 //!
 //! Precedence, lowest first: the paper's and the driver's defaults, the config file, the options.
 

@@ -1,8 +1,8 @@
-//! The SBST competition's measures of one run, computed as its pipeline computes them from a
-//! result folder: the totals of `generation_stats.csv`, failures, effectiveness (valid /
-//! generated), efficiency (generation time per generated test) and its `OOBAnalyzer`'s sides and
-//! sparseness of the out-of-bound failures ([`road_sim::oob`]). Sparseness looks only at the 60 m of road around each exit, so unlike the
-//! paper's diversity it does not grow with road length.
+//! The SBST competition's measures of one run, computed as its pipeline computes them from a result
+//! folder: the totals of `generation_stats.csv`, failures, effectiveness (valid / generated),
+//! efficiency (generation time per generated test) and its `OOBAnalyzer`'s sides and sparseness of
+//! the out-of-bound failures ([`road_sim::oob`]). Sparseness looks only at the 60 m of road around
+//! each exit, so unlike the paper's diversity it does not grow with road length.
 //!
 //! The pipeline's analysis fails a whole run when one OOB cannot be placed on its resampling of
 //! the road (no resampled point within 0.5 m of the nearest point, which happens where its

@@ -1,9 +1,9 @@
 //! `dave2-proxy`: a driver that steers with DAVE-2 from the front camera and holds a set speed.
 //!
-//! At each control tick (10 Hz by default) it renders the camera ([`crate::vision::Camera`]) at the car's
-//! pose, runs the network ([`crate::vision::Dave2Net`]) and steers its output (clamped to
-//! `[-1, 1]`) times the car's maximum wheel angle; a proportional controller holds the speed at
-//! the set speed (25 km/h by default, never above the simulation's speed limit).
+//! At each control tick (10 Hz by default) it renders the camera ([`crate::vision::Camera`]) at the
+//! car's pose, runs the network ([`crate::vision::Dave2Net`]) and steers its output (clamped to
+//! `[-1, 1]`) times the car's maximum wheel angle; a proportional controller holds the speed at the
+//! set speed (25 km/h by default, never above the simulation's speed limit).
 
 use super::pedals::pedals;
 use crate::road::Road;
@@ -242,8 +242,9 @@ mod tests {
     }
 
     /// The built-in student on the SBST 2022 entries' sharpest long roads (the first 30 of
-    /// AmbieGen's in `tests/reference/peer_roads_dev.jsonl`), in its competition setup: the competition's
-    /// DAVE-2 failed about 5% of such roads; `scripts/driver_rates.sh dave2-proxy` measures all.
+    /// AmbieGen's in `tests/reference/peer_roads_dev.jsonl`), in its competition setup: the
+    /// competition's DAVE-2 failed about 5% of such roads; `scripts/driver_rates.sh dave2-proxy`
+    /// measures all.
     #[test]
     fn the_built_in_student_keeps_its_lane_on_long_sharp_roads() {
         let config = CompetitionSetup::Dave2.sim_config();

@@ -1,6 +1,7 @@
 //! The drivers under test: `beamng-ai-proxy` (a geometric lane keeper), `dave2-proxy` (DAVE-2
 //! steering from the camera), a camera network in ONNX (`--oracle onnx:FILE`) and a controller
-//! process (`--oracle cmd:...`), each with its tuning; [`CompetitionSetup`] is the competition's setting each is judged by.
+//! process (`--oracle cmd:...`), each with its tuning; [`CompetitionSetup`] is the competition's
+//! setting each is judged by.
 //!
 //! The interface a driver fills, [`Driver`], belongs to the episode that calls it
 //! ([`crate::sim`]); it is re-exported here so that a new driver finds everything in one place.

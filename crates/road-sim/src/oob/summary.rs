@@ -1,5 +1,6 @@
-//! What the pipeline's `OOBAnalyzer` makes of a set of tests: which count as OOBs, the entry of each, and the summary
-//! (`total_oob,left_oob,right_oob,avg_sparseness,stdev_sparseness`) of a set of them.
+//! What the pipeline's `OOBAnalyzer` makes of a set of tests: which count as OOBs, the entry of
+//! each, and the summary (`total_oob,left_oob,right_oob,avg_sparseness,stdev_sparseness`) of a set
+//! of them.
 
 use super::entry::{OobEntry, OobSummary, SbstTest};
 use super::error::OobError;

@@ -5,9 +5,9 @@
 //! RGB one); [`Camera::render_rgb`] gives the same picture in colour for looking at (PNG). The
 //! gray levels are the luma of the colours, so both show the same scene.
 //!
-//! Speed: the camera is fixed to the car, so each pixel's ground-plane hit point in the car's
-//! frame is computed once ([`Camera::new`]); a frame transforms those points to the world and
-//! classifies each by its distance to the road's centre line ([`RoadScene`]). Along an image row the ground
+//! Speed: the camera is fixed to the car, so each pixel's ground-plane hit point in the car's frame
+//! is computed once ([`Camera::new`]); a frame transforms those points to the world and classifies
+//! each by its distance to the road's centre line ([`RoadScene`]). Along an image row the ground
 //! points are evenly spaced and the distance to the centre line is 1-Lipschitz, so after one exact
 //! classification the pixels that cannot change class are filled without a search (exactly the
 //! per-pixel result; a test checks it).
