@@ -11,7 +11,7 @@
 //! a non-finite number as `null`, which reads back as NaN. Fields added after a record was first
 //! written are optional when read, so that older run files stay readable.
 
-use crate::sbst::format::ExecutionRecord;
+use crate::files::sbst_format::ExecutionRecord;
 use driver_training::{CloningConfig, CloningReport};
 use road_sim::road::Point;
 use road_sim::{DriverKind, FitnessKind, LaneExit, Outcome, Reason, Sample, SimResult};

@@ -7,7 +7,7 @@
 use super::road_input::road_reader;
 use crate::files::json_lines::{json_values, open_input};
 use crate::files::records::{SuiteHeader, SuiteRoad, SUITE_FORMAT, SUITE_VERSION};
-use crate::sbst::format::test_files;
+use crate::files::sbst_format::test_files;
 use road_sim::road::Point;
 use serde_json::Value;
 use std::path::{Path, PathBuf};

@@ -1,11 +1,10 @@
 //! The SBST 2022 tool competition's side of the binary, as its pipeline
-//! (`se2p/tool-competition-av`) has it: the files it writes and reads ([`mod@format`]: execution
-//! records, test objects), the measures it scores a generator by ([`metrics`]: generation totals,
-//! effectiveness, efficiency, the `OOBAnalyzer`'s sides and sparseness) and its result folder
-//! ([`result_folder`]: written by `wogan export`, read back as a run by `wogan report`). The
-//! validity rules and the OOB analysis themselves are `road_sim::validator` and `road_sim::oob`.
+//! (`se2p/tool-competition-av`) has it: the measures it scores a generator by ([`metrics`]:
+//! generation totals, effectiveness, efficiency, the `OOBAnalyzer`'s sides and sparseness) and
+//! its result folder ([`result_folder`]: written by `wogan export`, read back as a run by `wogan
+//! report`). Its file formats are [`crate::files::sbst_format`]; the validity rules and the OOB
+//! analysis themselves are `road_sim::validator` and `road_sim::oob`.
 
-pub mod format;
 pub mod metrics;
 mod result_folder;
 

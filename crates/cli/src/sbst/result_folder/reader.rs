@@ -24,7 +24,7 @@ use crate::files::header_settings::HeaderSettings;
 use crate::files::records::{RoadExecution, SummaryRecord, TestRecord};
 use crate::files::road_input::road_reader;
 use crate::files::run_file::{RunFile, RunHeader};
-use crate::sbst::format::{test_file_number, test_files, FIELDS};
+use crate::files::sbst_format::{test_file_number, test_files, FIELDS};
 use anyhow::{Context, Result};
 use road_sim::oob::geometry::distance_to_line;
 use road_sim::oob::sbst_side;

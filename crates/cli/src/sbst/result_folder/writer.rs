@@ -5,10 +5,10 @@
 
 use crate::files::records::TestRecord;
 use crate::files::run_file::{RunFile, RunHeader};
-use crate::options::driver_options::driver_config;
-use crate::sbst::format::{
+use crate::files::sbst_format::{
     description, execution_data, test_file_number, CompetitionTest, Features,
 };
+use crate::options::driver_options::driver_config;
 use crate::sbst::metrics::{oob_summary, GenerationStats};
 use anyhow::{bail, Context, Result};
 use road_sim::{simulate, DriverConfig, Road, SimConfig, SimResult, Validator};

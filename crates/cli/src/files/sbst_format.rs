@@ -1,7 +1,7 @@
 //! The SBST competition pipeline's file formats (`se2p/tool-competition-av`, 2022): the execution
 //! records of a drive (`SimulationDataRecord`) and a stored test object (`test.NNNN.json`), made
 //! from our drives so that the pipeline's own analysis reads them unchanged. (The generation
-//! totals, counted from a run file, are [`super::metrics::GenerationStats`].)
+//! totals, counted from a run file, are `crate::sbst::metrics::GenerationStats`.)
 //!
 //! Our simulator samples less than BeamNG reports; each execution record field is mapped from a
 //! sample as follows (the README's table says the same for users):
