@@ -35,53 +35,108 @@ fn summary_of(path: &Path) -> Value {
 
 #[test]
 fn wogan_simulate_as_the_executor_drives_as_wogan_does() {
-    let dir = scratch_dir("executor-simulate");
-    let (own, outside) = (dir.join("own.jsonl"), dir.join("outside.jsonl"));
-    let base = ["run", "--max-tests", "30", "--seed", "1", "--quiet"];
-    let executor = format!("cmd:{} simulate", env!("CARGO_BIN_EXE_wogan"));
-    let ran = wogan(&[&base[..], &["--out", arg(&own)]].concat(), "");
-    assert_eq!(ran.status.code(), Some(0));
+    // On BOLP, and on the lane distance, which `simulate`'s answers carry.
+    for fitness in ["bolp", "distance"] {
+        let dir = scratch_dir(&format!("executor-simulate-{fitness}"));
+        let (own, outside) = (dir.join("own.jsonl"), dir.join("outside.jsonl"));
+        let base = [
+            "run",
+            "--max-tests",
+            "30",
+            "--seed",
+            "1",
+            "--quiet",
+            "--fitness",
+            fitness,
+        ];
+        let executor = format!("cmd:{} simulate", env!("CARGO_BIN_EXE_wogan"));
+        let ran = wogan(&[&base[..], &["--out", arg(&own)]].concat(), "");
+        assert_eq!(ran.status.code(), Some(0));
+        let ran = wogan(
+            &[
+                &base[..],
+                &["--out", arg(&outside), "--executor", &executor],
+            ]
+            .concat(),
+            "",
+        );
+        assert_eq!(
+            ran.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&ran.stderr)
+        );
+        let key = |t: &Value| {
+            (
+                t["id"].clone(),
+                t["outcome"].clone(),
+                t["max_bolp"].clone(),
+                t["fitness"].clone(),
+                t["sim_time_s"].clone(),
+                t["min_lane_distance_m"].clone(),
+            )
+        };
+        let (a, b) = (test_records(&own), test_records(&outside));
+        assert_eq!(a.len(), 30);
+        assert_eq!(
+            a.iter().map(key).collect::<Vec<_>>(),
+            b.iter().map(key).collect::<Vec<_>>(),
+            "{fitness}"
+        );
+        let header: Value = serde_json::from_str(
+            std::fs::read_to_string(&outside)
+                .unwrap()
+                .lines()
+                .next()
+                .unwrap(),
+        )
+        .unwrap();
+        assert_eq!(
+            header["config"]["executor"],
+            executor.trim_start_matches("cmd:")
+        );
+    }
+}
+
+#[test]
+fn a_lane_distance_search_refuses_answers_without_the_distance() {
+    // The faulty executor answers normally (its fault is at a road never reached), without
+    // `min_lane_distance_m`: every road fails, and the run stops after 5 in a row.
+    let Some(executor) = faulty("error", 99) else {
+        return;
+    };
+    let dir = scratch_dir("executor-no-distance");
+    let out = dir.join("run.jsonl");
     let ran = wogan(
         &[
-            &base[..],
-            &["--out", arg(&outside), "--executor", &executor],
-        ]
-        .concat(),
+            "run",
+            "--max-tests",
+            "12",
+            "--seed",
+            "3",
+            "--quiet",
+            "--fitness",
+            "distance",
+            "--executor",
+            &executor,
+            "--out",
+            arg(&out),
+        ],
         "",
     );
     assert_eq!(
         ran.status.code(),
-        Some(0),
+        Some(1),
         "{}",
         String::from_utf8_lossy(&ran.stderr)
     );
-    let key = |t: &Value| {
-        (
-            t["id"].clone(),
-            t["outcome"].clone(),
-            t["max_bolp"].clone(),
-            t["fitness"].clone(),
-            t["sim_time_s"].clone(),
-        )
-    };
-    let (a, b) = (test_records(&own), test_records(&outside));
-    assert_eq!(a.len(), 30);
-    assert_eq!(
-        a.iter().map(key).collect::<Vec<_>>(),
-        b.iter().map(key).collect::<Vec<_>>()
-    );
-    let header: Value = serde_json::from_str(
-        std::fs::read_to_string(&outside)
-            .unwrap()
-            .lines()
-            .next()
-            .unwrap(),
-    )
-    .unwrap();
-    assert_eq!(
-        header["config"]["executor"],
-        executor.trim_start_matches("cmd:")
-    );
+    let tests = test_records(&out);
+    assert_eq!(tests.len(), 5);
+    for test in &tests {
+        assert_eq!(test["outcome"], "ERROR");
+        let error = test["error"].as_str().unwrap_or_default();
+        assert!(error.contains("min_lane_distance_m: missing"), "{error}");
+    }
 }
 
 #[test]

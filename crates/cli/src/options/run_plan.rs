@@ -65,7 +65,8 @@ pub struct RunArgs {
     /// [default: restart].
     #[arg(long, value_parser = crate::options::value_parsers::round_acceptance)]
     pub round_acceptance: Option<wogan_core::RoundAcceptance>,
-    /// What the search maximises: bolp, bolp-scaled or distance [default: bolp, the paper's].
+    /// What the search maximises: bolp, bolp-scaled or distance (the lane distance; an executor
+    /// must then answer with `min_lane_distance_m`) [default: bolp, the paper's].
     #[arg(long, value_parser = fitness_kind)]
     pub fitness: Option<FitnessKind>,
     /// Curvature values per road (the road has one point more) [default: 5, the paper's, or the
@@ -305,9 +306,6 @@ impl RunPlan {
         let file = ConfigFile::read_for(args.config.as_deref(), kind)?;
         let (sim, driver) = args.driver.resolve(&file)?;
         let fitness = args.fitness.unwrap_or(setup.fitness());
-        if args.executor.is_some() && fitness == FitnessKind::Distance {
-            bail!("--fitness distance needs the lane distances of wogan's simulator; an executor reports BOLP: use bolp or bolp-scaled");
-        }
         let mut search_defaults = RunConfig::default();
         search_defaults.wogan.target_decay = default_target_decay(fitness, &sim);
         if let Some(preset) = args.preset {

@@ -13,6 +13,7 @@
 //! answer to the next, and every answer after it would be one road late.
 
 use child_process::Echo;
+use road_sim::sim::CENTRED_DISTANCE_M;
 use road_sim::{Outcome, Point};
 use serde::Serialize;
 use serde_json::Value;
@@ -67,6 +68,10 @@ pub struct Answer {
     pub oob_point: Option<Point>,
     /// Why the road could not be driven, when the executor says (kept for an `ERROR`).
     pub error: Option<String>,
+    /// The smallest signed distance of the car centre to its lane's edges over the drive, metres
+    /// (2 in a 4 m lane when always centred, negative once the centre left the lane), when the
+    /// executor says: what `--fitness distance` climbs.
+    pub min_lane_distance_m: Option<f64>,
 }
 
 /// Why an answer line is not an answer to the road asked; each names the field at fault.
@@ -99,12 +104,14 @@ fn field(field: &'static str, problem: impl Into<String>) -> AnswerError {
 }
 
 /// Reads one answer line to road `asked`; `answered` is the road this executor answered before it,
-/// if any, so that a late second answer to it is named as such.
+/// if any, so that a late second answer to it is named as such. `needs_lane_distance`: the search
+/// climbs the lane distance, so an answer without `min_lane_distance_m` is no answer.
 pub fn parse_answer(
     line: &str,
     asked: u64,
     answered: Option<u64>,
     oob_tolerance: f64,
+    needs_lane_distance: bool,
 ) -> Result<Answer, AnswerError> {
     let value: Value =
         serde_json::from_str(line).map_err(|e| AnswerError::NotJson(e.to_string()))?;
@@ -192,6 +199,27 @@ pub fn parse_answer(
         Some(Value::String(text)) => Some(text.clone()),
         Some(other) => return Err(field("error", format!("{other} is not text"))),
     };
+    let min_lane_distance_m = match object.get("min_lane_distance_m") {
+        None | Some(Value::Null) if needs_lane_distance => {
+            return Err(field(
+                "min_lane_distance_m",
+                "missing (the search climbs the lane distance: --fitness distance)",
+            ))
+        }
+        None | Some(Value::Null) => None,
+        Some(v) => match v.as_f64() {
+            Some(d) if d.is_finite() && d <= CENTRED_DISTANCE_M + 1e-6 => Some(d),
+            _ => {
+                return Err(field(
+                    "min_lane_distance_m",
+                    format!(
+                        "{v} is not a finite number of metres <= {CENTRED_DISTANCE_M} (the most a \
+                         car centre can be from the edges of a 4 m lane)"
+                    ),
+                ))
+            }
+        },
+    };
     Ok(Answer {
         max_bolp,
         outcome,
@@ -199,6 +227,7 @@ pub fn parse_answer(
         oob_side,
         oob_point,
         error,
+        min_lane_distance_m,
     })
 }
 
@@ -229,12 +258,12 @@ mod tests {
 
     #[test]
     fn answers_are_checked_field_by_field() {
-        let a = parse_answer(r#"{"id": 3, "max_bolp": 0.9}"#, 3, None, 0.85).unwrap();
+        let a = parse_answer(r#"{"id": 3, "max_bolp": 0.9}"#, 3, None, 0.85, false).unwrap();
         assert_eq!(
             (a.outcome, a.sim_time_s, a.oob_side),
             (Outcome::Fail, 0.0, None)
         );
-        let a = parse_answer(r#"{"id": 3, "max_bolp": 0.5, "outcome": "ERROR", "sim_time_s": 7.5, "oob_side": "right", "x": 1}"#, 3, None, 0.85).unwrap();
+        let a = parse_answer(r#"{"id": 3, "max_bolp": 0.5, "outcome": "ERROR", "sim_time_s": 7.5, "oob_side": "right", "x": 1}"#, 3, None, 0.85, false).unwrap();
         assert_eq!(a.outcome, Outcome::Error);
         assert_eq!(a.oob_side, Some(road_sim::LaneSide::Right));
         assert_eq!((a.oob_point, a.error), (None, None));
@@ -244,6 +273,7 @@ mod tests {
             3,
             None,
             0.85,
+            false,
         )
         .unwrap();
         assert_eq!(a.oob_point, Some([101.5, 40.25]));
@@ -253,11 +283,27 @@ mod tests {
             3,
             None,
             0.85,
+            false,
         )
         .unwrap();
         assert_eq!(a.error.as_deref(), Some("MetaDrive: no lane"));
+        // The lane distance, which a search on `--fitness distance` requires.
+        let line = r#"{"id": 3, "max_bolp": 0, "min_lane_distance_m": 1.25}"#;
+        let a = parse_answer(line, 3, None, 0.85, true).unwrap();
+        assert_eq!(a.min_lane_distance_m, Some(1.25));
+        let without = parse_answer(r#"{"id": 3, "max_bolp": 0}"#, 3, None, 0.85, true);
+        assert!(without
+            .unwrap_err()
+            .to_string()
+            .starts_with("min_lane_distance_m: missing"));
+        assert_eq!(
+            parse_answer(r#"{"id": 3, "max_bolp": 0}"#, 3, None, 0.85, false)
+                .unwrap()
+                .min_lane_distance_m,
+            None
+        );
         // `wogan simulate`'s answers are answers.
-        let a = parse_answer(r#"{"type":"result","line":2,"id":3,"outcome":"PASS","reason":null,"max_bolp":1e-14,"sim_time_s":6.5}"#, 3, None, 0.85).unwrap();
+        let a = parse_answer(r#"{"type":"result","line":2,"id":3,"outcome":"PASS","reason":null,"max_bolp":1e-14,"sim_time_s":6.5}"#, 3, None, 0.85, false).unwrap();
         assert_eq!((a.outcome, a.sim_time_s), (Outcome::Pass, 6.5));
         for (line, says) in [
             ("nope", "not JSON"),
@@ -306,8 +352,16 @@ mod tests {
                 r#"{"id": 3, "max_bolp": 0.1, "error": 7}"#,
                 "error: 7 is not text",
             ),
+            (
+                r#"{"id": 3, "max_bolp": 0.1, "min_lane_distance_m": 2.5}"#,
+                "min_lane_distance_m: 2.5 is not",
+            ),
+            (
+                r#"{"id": 3, "max_bolp": 0.1, "min_lane_distance_m": "near"}"#,
+                "min_lane_distance_m:",
+            ),
         ] {
-            let error = parse_answer(line, 3, Some(2), 0.85)
+            let error = parse_answer(line, 3, Some(2), 0.85, false)
                 .unwrap_err()
                 .to_string();
             assert!(error.contains(says), "{line}: {error}");

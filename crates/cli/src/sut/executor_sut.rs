@@ -12,6 +12,7 @@ use crate::sut::road_sut::RoadSut;
 use child_process::{ChildProcess, Fault};
 use road_sim::oob::sbst_side;
 use road_sim::road::features::RoadFeatures;
+use road_sim::sim::fitness_from_distance;
 use road_sim::{FitnessKind, LaneExit, Outcome, Road, SimConfig, SimResult};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -33,7 +34,7 @@ pub struct ExecutorSut<'a> {
     pub roads: RoadSut<'a>,
     /// How roads are judged (tolerance, speed limit) and told to the executor.
     pub sim: SimConfig,
-    /// What the search maximises (BOLP-based).
+    /// What the search maximises (the lane distance only from executors that answer with it).
     pub fitness: FitnessKind,
     /// The executor's command and limits.
     pub settings: ExecutorSettings,
@@ -93,7 +94,16 @@ impl<'a> ExecutorSut<'a> {
             id as u64,
             self.settings.timeout,
             self.stop,
-            |line, answered| parse_answer(line, id as u64, answered, self.sim.oob_tolerance),
+            |line, answered| {
+                let needs_lane_distance = self.fitness == FitnessKind::Distance;
+                parse_answer(
+                    line,
+                    id as u64,
+                    answered,
+                    self.sim.oob_tolerance,
+                    needs_lane_distance,
+                )
+            },
         );
         match answered {
             Ok(Ok(answer)) => {
@@ -173,6 +183,10 @@ impl Sut for ExecutorSut<'_> {
                     &road,
                     ms,
                 );
+                if let Some(distance) = answer.min_lane_distance_m {
+                    result.min_lane_distance_m = distance;
+                    result.fitness_distance = fitness_from_distance(distance);
+                }
                 // Where the car left is the executor's to know: the side, and the place when it
                 // says (the exit ends the drive, so its time is the drive's).
                 result.oob = answer.oob_side.map(|side| {
