@@ -18,7 +18,6 @@ folder's `interpolated_points`):
 """
 
 import argparse
-import math
 import os
 import statistics
 import sys

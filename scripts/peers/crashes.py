@@ -7,7 +7,7 @@ run_peer.py writes the exception's last line into the run's summary.json (`crash
 the tool's own behaviour in its competition only when KNOWN says so (each entry says why); any
 other crash is the harness's defect (a library that changed under the tool, an executor that
 answered what the pipeline does not expect), not a result, and makes the exit status 1.
-scripts/results.sh imports `classify` to mark the tool's own crashes in the field's table and to
+scripts/results/ imports `classify` to mark the tool's own crashes in the field's table and to
 refuse a run that ended in a harness defect. Standard library only.
 """
 import json

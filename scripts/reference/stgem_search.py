@@ -38,9 +38,7 @@ recorded as crashed (summary `crashed: true`, `error`) with the tests it had exe
 import argparse
 import copy
 import json
-import math
 import os
-import re
 import shutil
 import statistics
 import subprocess
@@ -231,7 +229,7 @@ def run_report_diversity(wogan, path, workdir):
 
 
 def one_seed(args, sbst, stgem_mods, seed, workdir):
-    np, torch = stgem_mods["np"], stgem_mods["torch"]
+    torch = stgem_mods["torch"]
     STGEM, Search, Budget = stgem_mods["STGEM"], stgem_mods["Search"], stgem_mods["Budget"]
     Random, WOGAN, WOGAN_Model = stgem_mods["Random"], stgem_mods["WOGAN"], stgem_mods["WOGAN_Model"]
     ObjectiveSelectorAll = stgem_mods["ObjectiveSelectorAll"]

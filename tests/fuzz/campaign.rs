@@ -207,7 +207,7 @@ pub(super) fn write_failure(f: &mut fmt::Formatter<'_>, failure: &Failure) -> fm
     if let Some((seed, index)) = failure.replay {
         writeln!(
             f,
-            "    replay:  FUZZ_SEED={seed} FUZZ_ONLY={index} scripts/fuzz_campaign.sh"
+            "    replay:  FUZZ_SEED={seed} FUZZ_ONLY={index} scripts/runs/fuzz_campaign.sh"
         )?;
     }
     writeln!(f, "    command: {}", failure.command)?;

@@ -24,7 +24,7 @@
 //!
 //! Every random choice of a case comes from ChaCha seeded by the campaign seed and the case's
 //! index, so a case replays from those two numbers alone (`FUZZ_SEED=S FUZZ_ONLY=I
-//! scripts/fuzz_campaign.sh`). A failure is reported with that replay, the shell command that
+//! scripts/runs/fuzz_campaign.sh`). A failure is reported with that replay, the shell command that
 //! reproduces it in its kept directory (inputs, outputs, stderr), what was fuzzed, its input and
 //! the tail of its standard error; failures are grouped into classes by their message and the first
 //! frame of this workspace in the backtrace.
@@ -33,7 +33,7 @@
 //! - `fuzz_sample` runs in `cargo test`: a small fixed-seed sample (`run` always bounded by
 //!   `--max-tests` <= 3 and/or `--budget` <= 2s) plus the reproducers of failures already known,
 //!   and asserts that none panics, aborts, hangs or writes a line that is not JSON.
-//! - `fuzz_campaign` (ignored; `scripts/fuzz_campaign.sh`) runs as many cases as `FUZZ_CASES` from
+//! - `fuzz_campaign` (ignored; `scripts/runs/fuzz_campaign.sh`) runs as many cases as `FUZZ_CASES` from
 //!   `FUZZ_SEED` and prints the table per command and every failure class. Its environment:
 //!   `FUZZ_SEED` (1), `FUZZ_CASES` (600, spread evenly over the commands), `FUZZ_ONLY` (one case
 //!   index), `FUZZ_COMMANDS` (e.g. `validate,run`), `FUZZ_JOBS` (children at once: the number of
@@ -257,9 +257,9 @@ fn fuzz_sample() {
     }
 }
 
-/// The development-time campaign (`scripts/fuzz_campaign.sh`), set by the `FUZZ_*` variables.
+/// The development-time campaign (`scripts/runs/fuzz_campaign.sh`), set by the `FUZZ_*` variables.
 #[test]
-#[ignore = "minutes of fuzzing: run by scripts/fuzz_campaign.sh"]
+#[ignore = "minutes of fuzzing: run by scripts/runs/fuzz_campaign.sh"]
 fn fuzz_campaign() {
     let report = fuzz(&Settings::from_env(), Vec::new());
     println!("{report}");

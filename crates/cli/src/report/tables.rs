@@ -1,5 +1,5 @@
 //! `wogan report --table`: the figures as Markdown tables on stdout, without pictures, for a page
-//! made from many run files (`scripts/results.sh`). Without `--vs`, one row per configuration;
+//! made from many run files (`python3 scripts/results`). Without `--vs`, one row per configuration;
 //! with `--vs`, the Mann–Whitney table of A against B over every measure, the competition's
 //! included.
 

@@ -467,7 +467,7 @@ mod tests {
 
     /// The calibration on WOGAN's 75 m random roads (`tests/reference/roads.jsonl`) and on the
     /// SBST 2022 entries' long roads (`tests/reference/peer_roads_dev.jsonl`), at 70 km/h and
-    /// tolerance 0.85; `scripts/driver_rates.sh` prints the rates.
+    /// tolerance 0.85; `scripts/runs/driver_rates.sh` prints the rates.
     #[test]
     fn fails_rarely_on_long_roads_and_still_on_wogan_roads() {
         let config = SimConfig::default();

@@ -243,7 +243,7 @@ mod tests {
 
     /// The built-in student on the SBST 2022 entries' sharpest long roads (the first 30 of
     /// AmbieGen's in `tests/reference/peer_roads_dev.jsonl`), in its competition setup: the
-    /// competition's DAVE-2 failed about 5% of such roads; `scripts/driver_rates.sh dave2-proxy`
+    /// competition's DAVE-2 failed about 5% of such roads; `scripts/runs/driver_rates.sh dave2-proxy`
     /// measures all.
     #[test]
     fn the_built_in_student_keeps_its_lane_on_long_sharp_roads() {

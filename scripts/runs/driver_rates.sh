@@ -5,17 +5,17 @@
 # FreneticV, AmbieGen and the pipeline's random generator) and long random roads of our own (the
 # paper's sampler with 12 curvature values, 180 m, seeds 1-2, 300 roads each).
 #
-#   scripts/driver_rates.sh                                  # beamng-ai-proxy at its defaults
-#   scripts/driver_rates.sh dave2-proxy
-#   scripts/driver_rates.sh beamng-ai-proxy candidate.json   # a `--config` file: {"driver": {...}}
-#   scripts/driver_rates.sh dave2-proxy "" student.bin       # weights from `wogan train-driver`
+#   scripts/runs/driver_rates.sh                                  # beamng-ai-proxy at its defaults
+#   scripts/runs/driver_rates.sh dave2-proxy
+#   scripts/runs/driver_rates.sh beamng-ai-proxy candidate.json   # a `--config` file: {"driver": {...}}
+#   scripts/runs/driver_rates.sh dave2-proxy "" student.bin       # weights from `wogan train-driver`
 #
 # Prints one line per road family: failures / roads and the rate. beamng-ai-proxy takes about
 # 10 s on two cores, dave2-proxy about 10 minutes; to screen a candidate faster, DEV_ROADS=N
 # drives the first N roads of the dev set only, LONG_SEEDS="1" one set of long random roads and
 # SHORT_SEEDS="" none of our own 75 m roads.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 oracle=${1:-beamng-ai-proxy}
 config=${2:-}
 weights=${3:-}

@@ -2,14 +2,14 @@
 # The search figures: each configuration over seeds 1-20 on both drivers (300 tests each), then
 # the comparisons that decide the defaults, each with `wogan report --vs` (Mann–Whitney).
 #
-#   scripts/search_figures.sh            # everything (about 2.5 h on one core; dave2-proxy dominates)
-#   ORACLES=dave2-proxy SETS="paper distance" scripts/search_figures.sh
+#   scripts/runs/search_figures.sh            # everything (about 2.5 h on one core; dave2-proxy dominates)
+#   ORACLES=dave2-proxy SETS="paper distance" scripts/runs/search_figures.sh
 #
 # Runs are kept (and reused when complete) in target/effectiveness/; each comparison's report in
 # target/figures/NAME/report.md. stgem's own runs, when present (scripts/reference/stgem_search.py
 # writes target/stgem/ORACLE.stgem.SEED.jsonl), are compared with the paper's settings.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 export REUSE=1
 seeds=${SEEDS:-$(seq -s ' ' 1 20)}
 oracles=${ORACLES:-beamng-ai-proxy dave2-proxy}
@@ -21,7 +21,7 @@ configure() { # TAG ORACLE ALGORITHM OPTIONS...
   local tag=$1 oracle=$2 algorithm=$3
   shift 3
   echo "== $oracle / $tag"
-  ALGORITHMS=$algorithm TAG=$tag scripts/effectiveness.sh "$oracle" 300 "$seeds" "$@" | tail -n 1
+  ALGORITHMS=$algorithm TAG=$tag scripts/runs/effectiveness.sh "$oracle" 300 "$seeds" "$@" | tail -n 1
 }
 files() { for s in $seeds; do echo "$runs/$1.$s.jsonl"; done; }
 compare() { # NAME GROUP_A GROUP_B (file stems: ORACLE.TAG.ALGORITHM)

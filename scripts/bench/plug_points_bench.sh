@@ -9,9 +9,9 @@
 #   by the same network exported to ONNX (tests/fixtures/onnx/dave2-proxy.onnx, run by tract under
 #   the settings that make it dave2-proxy), one job each: the cost of a road (goal: within 2x).
 #
-#   scripts/plug_points_bench.sh | tee target/bench-output/plug-points.txt
+#   scripts/bench/plug_points_bench.sh | tee target/bench-output/plug-points.txt
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 wogan=$(realpath "${1:-target/release/wogan}")
 work=target/plug-points-bench
 rm -rf "$work" && mkdir -p "$work"

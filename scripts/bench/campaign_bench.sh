@@ -3,15 +3,15 @@
 # time and peak memory (/usr/bin/time -v). The runs are real: a small campaign through the GNU
 # parallel recipe (examples/cluster/, 10 seeds x random and WOGAN, TESTS tests each), each run then
 # copied to make COPIES x 20 files in a folder tree, as a large campaign leaves them. Lines for
-# docs/results.md (scripts/results.sh, section campaigns):
+# docs/results.md (scripts/results/, section campaigns):
 #
-#   scripts/campaign_bench.sh | tee target/bench-output/campaigns.txt
-#   TESTS=300 BASELINE=/path/to/older/wogan BASELINE_LABEL="commit abc123" scripts/campaign_bench.sh
+#   scripts/bench/campaign_bench.sh | tee target/bench-output/campaigns.txt
+#   TESTS=300 BASELINE=/path/to/older/wogan BASELINE_LABEL="commit abc123" scripts/bench/campaign_bench.sh
 #
 # BASELINE, when set, is another wogan binary given the same files as arguments (one that reads no
 # folders), for a before-and-after figure; BASELINE_LABEL says which it is.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 wogan=$(realpath "${1:-target/release/wogan}")
 tests=${TESTS:-30}
 copies=${COPIES:-100}

@@ -5,12 +5,12 @@
 # - failing roads per wall minute of a `--budget` run (default 1m) at jobs 1 and 2, medians over
 #   BUDGET_SEEDS (default 1 2 3);
 # - a model of N cores from the jobs-1 run's own split of time (below).
-# Quality per test (20 seeds, `wogan report --vs`) is made by scripts/search_figures.sh (sets
+# Quality per test (20 seeds, `wogan report --vs`) is made by scripts/runs/search_figures.sh (sets
 # jobs2, jobs4, jobs4-restart). Run it on an otherwise idle machine:
 #
-#   scripts/parallel_bench.sh | tee target/bench-output/parallel.txt
+#   scripts/bench/parallel_bench.sh | tee target/bench-output/parallel.txt
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 wogan=$(realpath "${1:-target/release/wogan}")
 budget=${BUDGET:-1m}
 seeds=${SEEDS:-1 2 3}

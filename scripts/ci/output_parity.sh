@@ -2,7 +2,7 @@
 # Writes the outputs of a fixed set of wogan commands into DIR, with every timing field masked, so
 # that two builds can be compared with `diff -r`: a refactoring that keeps behaviour leaves them equal.
 #
-#   scripts/output_parity.sh BIN DIR      e.g. scripts/output_parity.sh target/release/wogan /tmp/after
+#   scripts/ci/output_parity.sh BIN DIR      e.g. scripts/ci/output_parity.sh target/release/wogan /tmp/after
 #
 # Masked fields (they measure the machine, not the result): generation_ms, execution_ms, wall_s,
 # generation_s, training_s, simulation_s, train records' train_ms and the SBST charges of real time
@@ -11,7 +11,7 @@
 set -euo pipefail
 bin=$(realpath "$1")
 out=$(realpath -m "$2")
-here=$(cd "$(dirname "$0")/.." && pwd)
+here=$(cd "$(dirname "$0")/../.." && pwd)
 roads=$here/tests/reference/roads.jsonl
 mkdir -p "$out"
 mask='walk(if type == "object" then with_entries(if (.key | IN("generation_ms","execution_ms","wall_s","generation_s","training_s","simulation_s","train_ms","sbst_generation_ms","sbst_generation_s")) then .value = "masked" else . end) else . end)'

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # The CI commands' costs (issue 35's numbers), each the median of 5 repetitions, printed as lines
-# that scripts/results.sh keeps (save them: scripts/ci_bench.sh | tee target/bench-output/ci.txt):
+# that scripts/results/ keeps (save them: scripts/bench/ci_bench.sh | tee target/bench-output/ci.txt):
 # - a 50-test seeded smoke run on beamng-ai-proxy: CPU seconds (user + system), bar 5 s of one core,
 #   and whether its records and JUnit report are the same each time but for timings;
 # - replaying a 100-road suite on dave2-proxy with --jobs 2: wall seconds, bar 10 s on this machine.
 #
-#   scripts/ci_bench.sh [WOGAN]
+#   scripts/bench/ci_bench.sh [WOGAN]
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 wogan=$(realpath "${1:-target/release/wogan}")
 work=target/ci-bench
 rm -rf "$work" && mkdir -p "$work"

@@ -3,18 +3,18 @@
 # default), exports each the competition's way, and reports the groups with the competition's
 # measures.
 #
-#   scripts/sbst_budget_runs.sh [ORACLE] [SEEDS] [GENERATION] [EXECUTION]
-#   scripts/sbst_budget_runs.sh beamng-ai-proxy "$(seq -s ' ' 1 20)" 1h 2h
+#   scripts/runs/sbst_budget_runs.sh [ORACLE] [SEEDS] [GENERATION] [EXECUTION]
+#   scripts/runs/sbst_budget_runs.sh beamng-ai-proxy "$(seq -s ' ' 1 20)" 1h 2h
 #
 # ALGORITHMS chooses the algorithms (default "wogan random"; "preset-sbst" is WOGAN with
 # `--preset sbst`, "preset-sbst-any-road" the same with `--min-road-turn 0`). Runs go to target/sbst/ as
 # ORACLE.ALGORITHM.SEED.jsonl, exports to target/sbst/export/ORACLE.ALGORITHM.SEED/, the report to
 # target/sbst/report-ORACLE/. With REUSE=1 a run whose file ends with its summary is kept. With
-# EXPORT=0 the runs are not exported (scripts/results.sh reads only the run files; a long run's
+# EXPORT=0 the runs are not exported (scripts/results/ reads only the run files; a long run's
 # export can take longer than the run).
 # WOGAN=path uses another binary (default target/release/wogan, built here).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 oracle=${1:-beamng-ai-proxy}
 seeds=${2:-1 2 3 4 5}
 generation=${3:-1h}

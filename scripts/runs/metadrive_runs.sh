@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Searches against MetaDrive (examples/metadrive/, after its setup.sh) under the SBST
 # competition's budgets: one run per policy x algorithm x seed, into
-# target/metadrive/POLICY.ALGORITHM.SEED.jsonl, which scripts/results.sh reads ("A real simulator:
+# target/metadrive/POLICY.ALGORITHM.SEED.jsonl, which scripts/results/ reads ("A real simulator:
 # MetaDrive").
 #
-#   scripts/metadrive_runs.sh [POLICY] [SEEDS] [GENERATION] [EXECUTION]
-#   scripts/metadrive_runs.sh idm "$(seq -s ' ' 1 10)" 1h 2h
+#   scripts/runs/metadrive_runs.sh [POLICY] [SEEDS] [GENERATION] [EXECUTION]
+#   scripts/runs/metadrive_runs.sh idm "$(seq -s ' ' 1 10)" 1h 2h
 #
 # ALGORITHMS (default "random wogan preset-sbst"): random search, the paper's WOGAN, `--preset
 # sbst`; "jobs2-ALGORITHM" runs ALGORITHM with `--jobs 2` (two MetaDrive executors). The driver's
@@ -15,7 +15,7 @@
 # writes there instead (the `--jobs 2` speed-up is measured in target/metadrive-speed/, with
 # nothing else running).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 policy=${1:-idm}
 seeds=${2:-1 2 3}
 generation=${3:-1h}

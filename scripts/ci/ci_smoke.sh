@@ -3,9 +3,9 @@
 # suite (it must replay unchanged), a 50-test seeded smoke search, both with JUnit reports, and
 # check that the reports parse and count what was driven. Run by .ci/run after the tests.
 #
-#   scripts/ci_smoke.sh [WOGAN]        # default target/release/wogan; writes into target/ci-smoke/
+#   scripts/ci/ci_smoke.sh [WOGAN]        # default target/release/wogan; writes into target/ci-smoke/
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 wogan=${1:-target/release/wogan}
 out=target/ci-smoke
 rm -rf "$out" && mkdir -p "$out"

@@ -14,14 +14,14 @@ Left out as test code: a file's trailing `#[cfg(test)] mod tests { ... }`, and f
 `#[cfg(test)]` (`#[cfg(test)] mod stgem_parity;`). Between crates `cargo tree` shows the graph
 (Cargo itself refuses cycles there).
 
-    python3 scripts/module_graph.py            # edges and verdict per crate; exit 1 on a cycle
-    python3 scripts/module_graph.py --quiet    # only cycles and the verdict
+    python3 scripts/ci/module_graph.py            # edges and verdict per crate; exit 1 on a cycle
+    python3 scripts/ci/module_graph.py --quiet    # only cycles and the verdict
 """
 import re
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parent.parent.parent
 IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
 
 

@@ -4,13 +4,13 @@
 # draws with the same seed) are compared with 50 random tests of the same seed, by
 # `wogan report SAMPLED --vs RANDOM --table` (failures, diversity, Mann–Whitney).
 #
-#   scripts/generator_figures.sh                       # both drivers, seeds 1-20
-#   ORACLES=dave2-proxy SEEDS="1 2 3" scripts/generator_figures.sh
+#   scripts/runs/generator_figures.sh                       # both drivers, seeds 1-20
+#   ORACLES=dave2-proxy SEEDS="1 2 3" scripts/runs/generator_figures.sh
 #
 # Files: target/generator/ORACLE.{train,sampled,random}.SEED.jsonl, ORACLE.train.SEED.json (the
 # generator); complete files are reused. Tables: target/generator/ORACLE.table.md.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 wogan=${WOGAN:-target/release/wogan}
 seeds=${SEEDS:-$(seq -s ' ' 1 20)}
 oracles=${ORACLES:-beamng-ai-proxy dave2-proxy}

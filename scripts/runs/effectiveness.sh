@@ -2,15 +2,15 @@
 # WOGAN against random search, as the paper compares them: failing roads and their diversity
 # after N executions, for several seeds, and the medians.
 #
-#   scripts/effectiveness.sh [ORACLE] [TESTS] [SEEDS] [extra wogan run options...]
-#   scripts/effectiveness.sh beamng-ai-proxy 300 "1 2 3 4 5"
-#   ALGORITHMS=wogan TAG=bolp scripts/effectiveness.sh dave2-proxy 300 "1 2 3 4 5" --fitness bolp
+#   scripts/runs/effectiveness.sh [ORACLE] [TESTS] [SEEDS] [extra wogan run options...]
+#   scripts/runs/effectiveness.sh beamng-ai-proxy 300 "1 2 3 4 5"
+#   ALGORITHMS=wogan TAG=bolp scripts/runs/effectiveness.sh dave2-proxy 300 "1 2 3 4 5" --fitness bolp
 #
 # ALGORITHMS chooses the algorithms (default "random wogan"); TAG names the set of runs. Runs are
 # kept in target/effectiveness/ for `wogan report`; with REUSE=1 a run whose file already ends
 # with its summary is not run again (so an interrupted set of runs can be resumed).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 oracle=${1:-beamng-ai-proxy}
 tests=${2:-300}
 seeds=${3:-1 2 3 4 5}

@@ -1,0 +1,134 @@
+"""Section `metadrive`: searches against MetaDrive through examples/metadrive/'s executor
+(target/metadrive/, made by scripts/runs/metadrive_runs.sh), the field in MetaDrive
+(target/peers/metadrive-*), and the `--jobs 2` speed-up (target/metadrive-speed/).
+"""
+
+import glob
+import os
+import statistics
+
+from common import num, out, read_jsonl
+from field import PEERS, compared, group_means, peer_runs, rounded, runs_of
+
+
+# ---------------------------------------------------------------------------------------------
+# A real simulator (issue 59): searches against MetaDrive through examples/metadrive/'s executor
+# (scripts/runs/metadrive_runs.sh), per policy. The section lists what is on the machine.
+METADRIVE_ALGORITHMS = [("random", "random search"), ("wogan", "the paper's WOGAN"),
+                        ("preset-sbst", "`--preset sbst`")]
+METADRIVE_COMPARED = ("failures per run", "distinct failures per run", "diversity")
+
+
+def tests_per_wall_minute(paths):
+    """Mean over runs of executed tests per wall minute (the run's own summary)."""
+    rates = []
+    for path in paths:
+        summary = read_jsonl(path)[-1]
+        if summary.get("type") == "summary" and summary.get("wall_s"):
+            rates.append(60.0 * summary["executed"] / summary["wall_s"])
+    return statistics.mean(rates) if rates else None
+
+
+def finished(paths):
+    """The runs among `paths` that ended with their summary and were not interrupted (a campaign
+    still running, or stopped, leaves one that has not)."""
+    def ends_with_summary(path):
+        with open(path, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            f.seek(max(f.tell() - 4096, 0))
+            last = f.read().decode("utf-8", "replace").rstrip("\n").rsplit("\n", 1)[-1]
+        return '"type":"summary"' in last and '"interrupted":true' not in last
+    return [p for p in paths if ends_with_summary(p)]
+
+
+def metadrive_section():
+    out()
+    out("## A real simulator: MetaDrive")
+    out()
+    out("Searches whose every road is driven in MetaDrive 0.4.3 (Bullet physics, headless) by "
+        "`examples/metadrive/executor.py` (`wogan run --executor`), under the competition's "
+        "budgets (`--generation-budget 1h --execution-budget 2h`), at wogan's default conditions "
+        "(0.85 tolerance, 70 km/h): `scripts/runs/metadrive_runs.sh POLICY SEEDS 1h 2h`. Figures are "
+        "`wogan report`'s, means per run, and each search against random search by Mann–Whitney "
+        "(`wogan report A --vs B`); tests per wall minute from each run's summary (the machine's "
+        "load at the time counts: these runs shared its 2 cores with others).")
+    policies = sorted({os.path.basename(p).split(".")[0] for p in glob.glob("target/metadrive/*.jsonl")})
+    if not policies:
+        out()
+        out("No runs on this machine.")
+    for policy in policies:
+        groups = [(name, finished(runs_of(f"target/metadrive/{policy}.{tag}"))) for tag, name in METADRIVE_ALGORITHMS]
+        out()
+        out(f"### `--policy {policy}`")
+        out()
+        out("| search | runs | tests | failures | distinct failures | diversity | tests per wall minute |")
+        out("|---|---|---|---|---|---|---|")
+        for name, paths in groups:
+            if not paths:
+                out(f"| {name} | 0 | – | – | – | – | – |")
+                continue
+            figures = group_means(paths)
+            cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
+                     for key in ("tests executed", "failures", "distinct failures (", "diversity (")]
+            rate = tests_per_wall_minute(paths)
+            out(f"| {name} | {len(paths)} | " + " | ".join(cells) + f" | {num(rate) if rate else '–'} |")
+        random_runs = groups[0][1]
+        for name, paths in groups[1:]:
+            if random_runs and paths:
+                rows = compared(paths, random_runs, METADRIVE_COMPARED)
+                out()
+                out(f"{name} (A) against random search (B): " + "; ".join(
+                    f"{m} {rows.get(m, '–')}" for m in METADRIVE_COMPARED) + ".")
+        metadrive_field(policy, groups)
+    metadrive_speedup()
+
+
+def metadrive_field(policy, groups):
+    """The SBST 2022 field on MetaDrive (scripts/peers/campaign.sh metadrive-POLICY): each tool's
+    means, and wogan's searches against it."""
+    peers = [(name, peer_runs(f"metadrive-{policy}", tool)) for tool, name in PEERS]
+    peers = [(name, paths) for name, paths in peers if paths]
+    if not peers:
+        return
+    out()
+    out(f"The SBST 2022 field on MetaDrive with `--policy {policy}`, in the competition's pipeline "
+        f"(`PEERS_HOME=... scripts/peers/campaign.sh metadrive-{policy} SEEDS TOOLS`: MetaDrive's "
+        "executor answering with the pipeline's execution data, the same budgets and conditions):")
+    out()
+    out("| tool | runs | tests | failures | distinct failures | diversity |")
+    out("|---|---|---|---|---|---|")
+    for name, paths in peers:
+        figures = group_means(paths)
+        cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
+                 for key in ("tests executed", "failures", "distinct failures (", "diversity (")]
+        out(f"| {name} | {len(paths)} | " + " | ".join(cells) + " |")
+    for ours, mine in groups[1:]:
+        if not mine:
+            continue
+        out()
+        out(f"{ours} (A, {len(mine)} runs) against each tool (B), means and Mann–Whitney p "
+            "(`wogan report A --vs B --table`):")
+        out()
+        out("| B | " + " | ".join(f"{m}: A / B, p" for m in METADRIVE_COMPARED) + " |")
+        out("|---|" + "---|" * len(METADRIVE_COMPARED))
+        for name, paths in peers:
+            rows = compared(mine, paths, METADRIVE_COMPARED)
+            out(f"| {name} ({len(paths)} runs) | " + " | ".join(rows.get(m, "–") for m in METADRIVE_COMPARED) + " |")
+
+
+def metadrive_speedup():
+    """`--jobs 2` against one executor on the same seeds, from runs made alone on the machine
+    (target/metadrive-speed/: `OUT=target/metadrive-speed ALGORITHMS="random jobs2-random"
+    scripts/runs/metadrive_runs.sh idm 2 1h 2h` with nothing else running)."""
+    for policy in sorted({os.path.basename(p).split(".")[0] for p in glob.glob("target/metadrive-speed/*.jsonl")}):
+        for tag, name in METADRIVE_ALGORITHMS:
+            two = runs_of(f"target/metadrive-speed/{policy}.jobs2-{tag}")
+            seeds = {p.rsplit(".", 2)[-2] for p in two}
+            one = [p for p in runs_of(f"target/metadrive-speed/{policy}.{tag}") if p.rsplit(".", 2)[-2] in seeds]
+            if one and two:
+                r1, r2 = tests_per_wall_minute(one), tests_per_wall_minute(two)
+                out()
+                out(f"`--jobs 2` (`--policy {policy}`, {name}, {len(two)} runs, made with nothing "
+                    f"else running): {num(r2)} tests per wall minute against {num(r1)} with one "
+                    f"executor on the same seeds, {num(r2 / r1, 2)}x (two MetaDrive executors on a "
+                    "2-core machine).")
