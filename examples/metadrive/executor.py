@@ -49,8 +49,10 @@ The measures, sampled at every physics step (50 Hz):
   20 s + length / (2 m/s). MetaDrive's own ends (arrival, out of road) are ignored.
 - `sim_time_s`: simulated seconds until the end.
 
-Answers carry `id`, `max_bolp`, `outcome`, `sim_time_s`, `oob_side` and `oob_point` (FAIL out of
-lane only: the side, and the car centre in wogan's frame at the first sample past the tolerance),
+Answers carry `id`, `max_bolp`, `outcome`, `sim_time_s`, `min_lane_distance_m` (the smallest
+signed distance of the car centre to the right lane's edges over the samples, as wogan's lane
+monitor measures it, so that `--fitness distance` searches MetaDrive), `oob_side` and `oob_point`
+(FAIL out of lane only: the side, and the car centre in wogan's frame at the first sample past the tolerance),
 `error` (ERROR only: kept in the test record) and, for people reading them (wogan ignores them),
 `reason`, `policy` and `wall_s`. With `--execution-data` (for the SBST pipeline's generators in
 scripts/peers, which read the drive) an answer also carries `execution_data`: one array per sample
@@ -348,6 +350,9 @@ class LaneMonitor:
     car_width_m: float
     tolerance: float
     max_bolp: float = 0.0
+    # The smallest signed distance of the car centre to the right lane's edges, metres (wogan's
+    # `min_lane_distance_m`: 2 when centred, negative outside); a lane-width half when unsampled.
+    min_lane_distance_m: float = LANE_WIDTH_M / 2.0
     last_bolp: float = 0.0
     last_lateral_m: float = 0.0  # of the car centre from the centre line, positive left
     verdict: Optional[Verdict] = None
@@ -403,6 +408,9 @@ class LaneMonitor:
         segment, lateral = self.project(center)
         bolp = self.bolp(center, heading, segment)
         self.max_bolp = max(self.max_bolp, bolp)
+        # The right lane's centre is half a lane right of the centre line (sim/lane_monitor.rs).
+        lane_distance = LANE_WIDTH_M / 2.0 - abs(lateral + LANE_WIDTH_M / 2.0)
+        self.min_lane_distance_m = min(self.min_lane_distance_m, lane_distance)
         self.last_bolp, self.last_lateral_m = bolp, lateral
         if bolp > self.tolerance:
             # wogan's side: left when nearer the lane's left edge (the centre line) than its right.
@@ -600,6 +608,7 @@ class DriveResult:
     sim_time_s: float
     side: Optional[str]
     point: Optional[tuple] = None
+    min_lane_distance_m: float = LANE_WIDTH_M / 2.0
     execution_data: Optional[list] = None  # with --execution-data
 
 
@@ -763,6 +772,7 @@ class MetaDriveDriver:
             self._on_sample = None
         v = monitor.verdict
         return DriveResult(v.outcome, v.reason, monitor.max_bolp, v.t_s, v.side, v.point,
+                           monitor.min_lane_distance_m,
                            recorder.records if recorder is not None else None)
 
 
@@ -833,7 +843,8 @@ class Executor:
             signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, previous)
         answer: dict = {**base, "max_bolp": result.max_bolp, "outcome": result.outcome,
-                        "sim_time_s": round(result.sim_time_s, 4)}
+                        "sim_time_s": round(result.sim_time_s, 4),
+                        "min_lane_distance_m": round(result.min_lane_distance_m, 4)}
         if result.side is not None:
             answer["oob_side"] = result.side
         if result.point is not None:

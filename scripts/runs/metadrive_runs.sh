@@ -8,8 +8,9 @@
 #   scripts/runs/metadrive_runs.sh idm "$(seq -s ' ' 1 10)" 1h 2h
 #
 # ALGORITHMS (default "random wogan preset-sbst"): random search, the paper's WOGAN, `--preset
-# sbst`; "jobs2-ALGORITHM" runs ALGORITHM with `--jobs 2` (two MetaDrive executors). The driver's
-# conditions are wogan's defaults (0.85 tolerance, 70 km/h), sent to the executor in `hello`. A run
+# sbst`; "jobs2-ALGORITHM" runs ALGORITHM with `--jobs 2` (two MetaDrive executors),
+# "distance-ALGORITHM" with `--fitness distance` (the lane distance the executor answers with).
+# The driver's conditions are wogan's defaults (0.85 tolerance, 70 km/h), sent to the executor in `hello`. A run
 # whose file ends with its summary is kept (delete it to make it again), unless a signal cut it
 # short. WOGAN=path uses another binary (default target/release/wogan, built here). OUT=folder
 # writes there instead (the `--jobs 2` speed-up is measured in target/metadrive-speed/, with
@@ -30,13 +31,16 @@ fi
 out=${OUT:-target/metadrive}
 mkdir -p "$out"
 for algorithm in $algorithms; do
-  jobs=1 search=$algorithm
-  case "$algorithm" in
-    jobs2-*) jobs=2 search=${algorithm#jobs2-} ;;
+  jobs=1 search=$algorithm fitness=()
+  case "$search" in
+    jobs2-*) jobs=2 search=${search#jobs2-} ;;
   esac
   case "$search" in
-    preset-*) options=(--algorithm wogan --preset "${search#preset-}") ;;
-    *) options=(--algorithm "$search") ;;
+    distance-*) fitness=(--fitness distance) search=${search#distance-} ;;
+  esac
+  case "$search" in
+    preset-*) options=(--algorithm wogan --preset "${search#preset-}" "${fitness[@]}") ;;
+    *) options=(--algorithm "$search" "${fitness[@]}") ;;
   esac
   for seed in $seeds; do
     file="$out/$policy.$algorithm.$seed.jsonl"

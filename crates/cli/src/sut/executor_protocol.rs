@@ -105,7 +105,8 @@ fn field(field: &'static str, problem: impl Into<String>) -> AnswerError {
 
 /// Reads one answer line to road `asked`; `answered` is the road this executor answered before it,
 /// if any, so that a late second answer to it is named as such. `needs_lane_distance`: the search
-/// climbs the lane distance, so an answer without `min_lane_distance_m` is no answer.
+/// climbs the lane distance, so an answer without `min_lane_distance_m` is no answer (but for an
+/// `ERROR`, which may have no drive to measure).
 pub fn parse_answer(
     line: &str,
     asked: u64,
@@ -200,7 +201,8 @@ pub fn parse_answer(
         Some(other) => return Err(field("error", format!("{other} is not text"))),
     };
     let min_lane_distance_m = match object.get("min_lane_distance_m") {
-        None | Some(Value::Null) if needs_lane_distance => {
+        // An executor's own ERROR may have no drive to measure.
+        None | Some(Value::Null) if needs_lane_distance && outcome != Outcome::Error => {
             return Err(field(
                 "min_lane_distance_m",
                 "missing (the search climbs the lane distance: --fitness distance)",
@@ -296,6 +298,8 @@ mod tests {
             .unwrap_err()
             .to_string()
             .starts_with("min_lane_distance_m: missing"));
+        let error = r#"{"id": 3, "max_bolp": 0, "outcome": "ERROR", "error": "no world"}"#;
+        assert!(parse_answer(error, 3, None, 0.85, true).is_ok());
         assert_eq!(
             parse_answer(r#"{"id": 3, "max_bolp": 0}"#, 3, None, 0.85, false)
                 .unwrap()
