@@ -102,6 +102,15 @@ fn metadrive_drives_roads_searches_and_leaves_no_process() {
         "{stdout}"
     );
     assert!(answers[1]["max_bolp"].as_f64().unwrap() > 0.85);
+    // The lane distance: near the lane's half width on the straight road, the centre outside the
+    // lane on the one it leaves (BOLP past 0.85 puts the centre past the edge).
+    let distance = |i: usize| {
+        answers[i]["min_lane_distance_m"]
+            .as_f64()
+            .expect("a lane distance")
+    };
+    assert!((1.0..=2.0).contains(&distance(0)), "{stdout}");
+    assert!(distance(1) < 0.0, "{stdout}");
     // Where it left: the car centre, in the road's frame, right of the right lane's centre (over
     // 2 m from the road's points' polyline) and within a car's length of the road.
     let point: Vec<f64> = serde_json::from_value(answers[1]["oob_point"].clone()).expect("[x, y]");
