@@ -1,43 +1,44 @@
 #!/usr/bin/env python3
-"""A pure-pursuit lane keeper for `wogan --oracle cmd:"python3 pure_pursuit.py"`, standard library
-only: it steers towards the lane-centre point about LOOKAHEAD_M ahead and holds a set speed.
+"""A pure-pursuit lane keeper for `wogan --oracle cmd:"python3 pure_pursuit.py"`, written on the
+`wogan` Python package (python/; `pip install .` installs it, and this file finds it in a
+checkout): it steers towards the lane-centre point about LOOKAHEAD_M ahead and holds a set speed.
 
-Each `step` line gives the lane centre ahead in the car's frame (`ahead`: x forward, y left,
-metres); the reply is `{"step": n, "steering": s, "throttle": t, "brake": b}`: the step's number,
-and steering a share of the car's largest angle, positive left. Lines of other types (`hello`, `road`, `end`, `bye`) get no
-reply. The protocol is in wogan's docs/reference.md ("Your own lane keeper").
+Each step's observation gives the lane centre ahead in the car's frame (`ahead`: x forward, y
+left, metres); the control's steering is a share of the car's largest angle, positive left. The
+protocol is in wogan's docs/reference.md ("Your own lane keeper").
 """
-import json
 import math
+import os
 import sys
+
+try:
+    import wogan
+except ImportError:  # run from a checkout without `pip install .`: the package is in python/
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+    import wogan
 
 LOOKAHEAD_M = 8.0   # how far ahead the point steered at lies
 WHEELBASE_M = 2.6   # the car's wheelbase (a typical sedan; wogan's car is close to it)
 SPEED_MPS = 12.0    # held below the speed limit
 GAIN = 0.5          # throttle per m/s below the set speed
 
-max_steering = 0.6
-speed_limit = SPEED_MPS
-for line in sys.stdin:
-    message = json.loads(line)
-    kind = message["type"]
-    if kind == "road":
-        max_steering = message["max_steering_rad"]
-        speed_limit = min(SPEED_MPS, message["speed_limit_mps"])
-        continue
-    if kind == "bye":
-        break
-    if kind != "step":
-        continue
-    ahead = message["ahead"]
-    # The first point at least LOOKAHEAD_M away (or the farthest given).
-    target = next((p for p in ahead if math.hypot(p[0], p[1]) >= LOOKAHEAD_M), ahead[-1] if ahead else [1.0, 0.0])
-    distance = max(math.hypot(target[0], target[1]), 1e-6)
-    curvature = 2.0 * target[1] / (distance * distance)
-    angle = math.atan(WHEELBASE_M * curvature)
-    steering = max(-1.0, min(1.0, angle / max_steering))
-    error = speed_limit - message["speed_mps"]
-    throttle = max(0.0, min(1.0, GAIN * error))
-    brake = max(0.0, min(1.0, -GAIN * error)) if error < -1.0 else 0.0
-    reply = {"step": message["step"], "steering": steering, "throttle": throttle, "brake": brake}
-    print(json.dumps(reply), flush=True)
+
+class PurePursuit(wogan.Controller):
+    def begin(self, road):
+        self.max_steering = road.max_steering_rad
+        self.speed_limit = min(SPEED_MPS, road.speed_limit_mps)
+
+    def step(self, seen):
+        # The first point at least LOOKAHEAD_M away (or the farthest given).
+        ahead = seen.ahead
+        target = next((p for p in ahead if math.hypot(p[0], p[1]) >= LOOKAHEAD_M), ahead[-1] if ahead else (1.0, 0.0))
+        distance = max(math.hypot(target[0], target[1]), 1e-6)
+        curvature = 2.0 * target[1] / (distance * distance)
+        steering = max(-1.0, min(1.0, math.atan(WHEELBASE_M * curvature) / self.max_steering))
+        error = self.speed_limit - seen.speed_mps
+        throttle = max(0.0, min(1.0, GAIN * error))
+        brake = max(0.0, min(1.0, -GAIN * error)) if error < -1.0 else 0.0
+        return wogan.Control(steering, throttle, brake)
+
+
+PurePursuit().serve()
