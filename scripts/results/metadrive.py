@@ -17,6 +17,23 @@ from field import PEERS, compared, group_means, peer_runs, rounded, runs_of
 METADRIVE_ALGORITHMS = [("random", "random search"), ("wogan", "the paper's WOGAN"),
                         ("preset-sbst", "`--preset sbst`")]
 METADRIVE_COMPARED = ("failures per run", "distinct failures per run", "diversity")
+# The same searches climbing the lane distance (`--fitness distance`: the executor's
+# `min_lane_distance_m`), made where BOLP is flat; listed when their runs exist, each compared
+# with random search on the same fitness.
+METADRIVE_DISTANCE = [("distance-random", "random search, `--fitness distance`"),
+                      ("distance-wogan", "the paper's WOGAN, `--fitness distance`")]
+
+
+def closest_approach(paths):
+    """Mean over runs of the smallest lane distance any of its tests reached, metres, and the
+    smallest of all (None when the runs carry no lane distance)."""
+    per_run = []
+    for path in paths:
+        distances = [r["min_lane_distance_m"] for r in read_jsonl(path)
+                     if r.get("type") == "test" and isinstance(r.get("min_lane_distance_m"), (int, float))]
+        if distances:
+            per_run.append(min(distances))
+    return (statistics.mean(per_run), min(per_run)) if per_run else None
 
 
 def tests_per_wall_minute(paths):
@@ -72,13 +89,31 @@ def metadrive_section():
                      for key in ("tests executed", "failures", "distinct failures (", "diversity (")]
             rate = tests_per_wall_minute(paths)
             out(f"| {name} | {len(paths)} | " + " | ".join(cells) + f" | {num(rate) if rate else '–'} |")
-        random_runs = groups[0][1]
-        for name, paths in groups[1:]:
-            if random_runs and paths:
-                rows = compared(paths, random_runs, METADRIVE_COMPARED)
+        distance = [(name, finished(runs_of(f"target/metadrive/{policy}.{tag}"))) for tag, name in METADRIVE_DISTANCE]
+        distance = distance if all(paths for _, paths in distance) else []
+        for name, paths in distance:
+            figures = group_means(paths)
+            cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
+                     for key in ("tests executed", "failures", "distinct failures (", "diversity (")]
+            rate = tests_per_wall_minute(paths)
+            out(f"| {name} | {len(paths)} | " + " | ".join(cells) + f" | {num(rate) if rate else '–'} |")
+        comparisons = [(groups[0], groups[1:])]
+        if distance:
+            comparisons.append((distance[0], distance[1:]))
+        for (random_name, random_runs), rest in comparisons:
+            for name, paths in rest:
+                if random_runs and paths:
+                    rows = compared(paths, random_runs, METADRIVE_COMPARED)
+                    out()
+                    out(f"{name} (A) against {random_name} (B): " + "; ".join(
+                        f"{m} {rows.get(m, '–')}" for m in METADRIVE_COMPARED) + ".")
+        for name, paths in distance:
+            approach = closest_approach(paths)
+            if approach:
                 out()
-                out(f"{name} (A) against random search (B): " + "; ".join(
-                    f"{m} {rows.get(m, '–')}" for m in METADRIVE_COMPARED) + ".")
+                out(f"{name}: the closest any test came to leaving its lane, per run: "
+                    f"{num(approach[0], 2)} m on average, {num(approach[1], 2)} m at the least "
+                    "(the car centre's smallest distance to its lane's edges; 0 is the edge).")
         metadrive_field(policy, groups)
     metadrive_speedup()
 
