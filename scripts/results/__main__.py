@@ -53,7 +53,9 @@ def main():
     args = options()
     os.chdir(ROOT)
     if not (os.path.isfile(args.wogan) and os.access(args.wogan, os.X_OK)):
-        sys.exit(f"results: no wogan binary at {args.wogan}: build it (cargo build --release -p wogan-cli) or pass --wogan")
+        print(f"results: no wogan binary at {args.wogan}: build it (cargo build --release -p wogan-cli) or pass --wogan",
+              file=sys.stderr)
+        sys.exit(2)
     seeds, oracles = args.seeds.split(), args.oracles.split()
     # The sections read their settings from the environment, as given here.
     os.environ.update(WOGAN=args.wogan, SEEDS=" ".join(seeds), ORACLES=" ".join(oracles), OUT=args.out,

@@ -22,14 +22,15 @@ def missing_runs(oracles, seeds, settings):
 
 
 def how_to_make(missing, seeds):
-    """The commands that make the `missing` runs."""
+    """The commands that make the `missing` runs: ours first (one script makes them all), then
+    stgem's."""
     seeds_env = "" if " ".join(seeds) == ALL_SEEDS else f'SEEDS="{" ".join(seeds)}" '
-    commands = []
+    ours, stgem = [], []
     for line in missing:
         oracle, tag, _, *numbers = line.split()
         if tag == "stgem":
-            commands.append(f"  python3 scripts/reference/stgem_search.py --oracle {oracle} --seeds {','.join(numbers)}"
-                            "   # needs torch and a stgem checkout: see the script")
+            stgem.append(f"  python3 scripts/reference/stgem_search.py --oracle {oracle} --seeds {','.join(numbers)}"
+                         "   # needs torch and a stgem checkout: see the script")
         else:
-            commands.append(f"  {seeds_env}ORACLES={oracle} SETS={tag} scripts/runs/search_figures.sh")
-    return commands
+            ours.append(f"  {seeds_env}ORACLES={oracle} SETS={tag} scripts/runs/search_figures.sh")
+    return ours + stgem

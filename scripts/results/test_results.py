@@ -13,7 +13,9 @@ os.environ.setdefault("ORACLES", "beamng-ai-proxy dave2-proxy")
 os.environ.setdefault("WORK", tempfile.gettempdir())
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from common import split  # noqa: E402
+from benches import duration  # noqa: E402
+from common import median, num, split  # noqa: E402
+from field import rounded  # noqa: E402
 from missing import how_to_make, missing_runs  # noqa: E402
 from page import LOG_HEADING, splice  # noqa: E402
 
@@ -77,6 +79,12 @@ class SpliceTest(unittest.TestCase):
         self.assertIn("old b beamng", lines)
 
 
+    def test_a_page_without_a_log_gets_one_at_the_end(self):
+        text = splice("# Results\n\n## A\n\nold a\n", ["## A", "", "new a"], "- a again", False)
+        self.assertTrue(text.endswith(f"{LOG_HEADING}\n\n- a again\n"))
+        self.assertEqual(text.count("## "), 2)
+
+
 class SplitTest(unittest.TestCase):
     def test_blocks_start_at_each_heading(self):
         head, blocks = split(["t", "## x", "1", "## y", "2"], "## ")
@@ -99,6 +107,41 @@ class MissingTest(unittest.TestCase):
         commands = how_to_make(missing, ["1", "2"])
         self.assertEqual(commands[0], '  SEEDS="1 2" ORACLES=dave2-proxy SETS=paper scripts/runs/search_figures.sh')
         self.assertIn("stgem_search.py --oracle dave2-proxy --seeds 1,2", commands[1])
+
+    def test_every_search_command_comes_before_stgems_and_all_seeds_need_no_seeds_variable(self):
+        missing = ["beamng-ai-proxy paper seeds 3", "beamng-ai-proxy stgem seeds 3",
+                   "dave2-proxy random seeds 3 4", "dave2-proxy stgem seeds 4"]
+        commands = how_to_make(missing, [str(s) for s in range(1, 21)])
+        self.assertEqual(commands[:2], ["  ORACLES=beamng-ai-proxy SETS=paper scripts/runs/search_figures.sh",
+                                        "  ORACLES=dave2-proxy SETS=random scripts/runs/search_figures.sh"])
+        self.assertIn("--oracle beamng-ai-proxy --seeds 3 ", commands[2])
+        self.assertIn("--oracle dave2-proxy --seeds 4 ", commands[3])
+
+
+class FiguresTest(unittest.TestCase):
+    def test_num_drops_trailing_zeros_and_groups_thousands(self):
+        self.assertEqual(num(2.0), "2")
+        self.assertEqual(num(2.25, 2), "2.25")
+        self.assertEqual(num(0.0), "0")
+        self.assertEqual(num(12345.04), "12,345")
+        self.assertEqual(num(1500), "1,500")
+        self.assertEqual(num(None), "–")
+
+    def test_median_of_nothing_is_none(self):
+        self.assertIsNone(median([]))
+        self.assertEqual(median([3, 1, 2, 10]), 2.5)
+
+    def test_rounded_keeps_what_is_not_a_number(self):
+        self.assertEqual(rounded("1,234.567"), "1,234.6")
+        self.assertEqual(rounded("3.000"), "3")
+        self.assertEqual(rounded("–"), "–")
+
+    def test_duration_picks_the_unit(self):
+        self.assertEqual(duration(None), "–")
+        self.assertEqual(duration(512), "512 ns")
+        self.assertEqual(duration(2_500), "2.5 µs")
+        self.assertEqual(duration(12_340_000), "12.3 ms")
+        self.assertEqual(duration(3e9), "3 s")
 
 
 if __name__ == "__main__":
