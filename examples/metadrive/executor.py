@@ -2,10 +2,11 @@
 """A wogan executor that drives each road in MetaDrive (metadrive-simulator 0.4.3, Bullet physics,
 headless, no GPU, no assets): `wogan run --executor cmd:"PYTHON executor.py --policy idm"`.
 
-It speaks the executor protocol, version 2 (wogan's docs/reference.md, "Plug points: your own
-simulator"): JSON lines on standard input (`hello`, one `road` per test, `bye`), one answer line per
-road on standard output, nothing else there (MetaDrive's own output goes to standard error with the
-logs). Set up by `examples/metadrive/setup.sh`, which makes `target/metadrive-venv`.
+It is a `wogan.Executor` (the `wogan` Python package, python/README.md), which speaks the executor
+protocol, version 2 (wogan's docs/reference.md, "Plug points: your own simulator"): JSON lines on
+standard input (`hello`, one `road` per test, `bye`), one answer line per road on standard output,
+nothing else there (MetaDrive's own output goes to standard error with the logs). Set up by
+`examples/metadrive/setup.sh`, which makes `target/metadrive-venv`.
 
 The road, as wogan's simulator has it (crates/road-sim/src):
 - The centre line is the competition's spline through `road_points` (FITPACK's `splprep(s=0)`, a
@@ -59,7 +60,7 @@ scripts/peers, which read the drive) an answer also carries `execution_data`: on
 of the pipeline's 17 `SimulationDataRecord` fields, as `wogan simulate --execution-data` gives.
 
 Faults: a road whose geometry cannot be built, or a MetaDrive exception while building or driving
-it, answers that road `ERROR` with the message in `error`; MetaDrive is then closed and started
+it, answers that road `ERROR` with the message in `error`; MetaDrive is then closed, and started
 again for the next road. A road taking longer than `--road-wall-timeout` seconds of wall time (a
 hang in Python code) is answered the same way. A crash of the process, or a hang inside native
 code, is left to wogan: `--executor-timeout`, then a new executor. `bye`, end of input, SIGTERM and
@@ -68,7 +69,6 @@ SIGINT close MetaDrive and exit; MetaDrive starts no other process.
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import math
 import os
@@ -79,12 +79,13 @@ import sys
 import tempfile
 import time
 from dataclasses import dataclass, field
-from typing import Any, Callable, Optional, TextIO
+from typing import Any, Callable, Optional
 
 import numpy as np
 
-PROTOCOL = "wogan-executor"
-PROTOCOL_VERSION = 2
+# Without `pip install .` (wogan's wheel), the package is found in this checkout's python/ folder.
+sys.path.append(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+import wogan  # noqa: E402
 
 # wogan's road and episode (crates/road-sim/src); the competition's numbers where wogan took them.
 ROAD_WIDTH_M = 8.0  # road/geometry.rs ROAD_WIDTH_M
@@ -777,122 +778,87 @@ class MetaDriveDriver:
 
 
 # ----------------------------------------------------------------------------------------------
-# The protocol
+# The protocol: wogan.Executor serves it, this class drives
 # ----------------------------------------------------------------------------------------------
 
-class Executor:
-    """Reads protocol lines, drives roads, writes answers."""
+class MetaDriveExecutor(wogan.Executor):
+    """Drives each road wogan sends in one MetaDrive, started again after a fault."""
 
-    def __init__(self, policy: str, out: TextIO, wall_timeout_s: float,
-                 execution_data: bool = False) -> None:
+    def __init__(self, policy: str, wall_timeout_s: float, execution_data: bool = False) -> None:
+        super().__init__()
         self.policy = policy
         self.execution_data = execution_data
-        self.out = out
         self.wall_timeout_s = wall_timeout_s
         self.speed_limit_kmh = DEFAULT_SPEED_LIMIT_KMH
         self.tolerance = DEFAULT_OOB_TOLERANCE
         self.driver: Optional[MetaDriveDriver] = None
+        self.broken = False  # MetaDrive failed: close it before the next road
 
-    def answer(self, message: dict) -> None:
-        self.out.write(json.dumps(message) + "\n")
-        self.out.flush()
-
-    def hello(self, message: dict) -> None:
-        if message.get("protocol") not in (None, PROTOCOL) or message.get("version") not in (None, PROTOCOL_VERSION):
-            log.warning("hello of protocol %r version %r; this executor speaks %s version %d",
-                        message.get("protocol"), message.get("version"), PROTOCOL, PROTOCOL_VERSION)
-        self.speed_limit_kmh = float(message.get("speed_limit_kmh", self.speed_limit_kmh))
-        self.tolerance = float(message.get("oob_tolerance", self.tolerance))
+    def hello(self, settings: dict) -> None:
+        self.speed_limit_kmh = float(settings.get("speed_limit_kmh", self.speed_limit_kmh))
+        self.tolerance = float(settings.get("oob_tolerance", self.tolerance))
         if self.driver is not None:  # a second hello: new settings, new MetaDrive
             self.driver.close()
             self.driver = None
         log.info("hello: speed limit %.1f km/h, tolerance %.3f, policy %s",
                  self.speed_limit_kmh, self.tolerance, self.policy)
 
-    def road(self, message: dict) -> None:
-        road_id = message.get("id")
-        if not isinstance(road_id, int) or isinstance(road_id, bool):
-            log.error("a road without an integer id cannot be answered: %.200s", json.dumps(message))
-            return
+    def drive(self, road: wogan.Road) -> wogan.Answer:
+        if self.broken:
+            self.restart_driver()
         started = time.monotonic()
-        base = {"id": road_id}
         try:
-            road = build_road(message.get("road_points"))
+            built = build_road(road.points)
         except RoadError as error:
-            self.answer({**base, "max_bolp": 0.0, "outcome": "ERROR", "sim_time_s": 0.0,
-                         "error": f"road cannot be built: {error}", "policy": self.policy})
-            return
+            return wogan.Answer(max_bolp=0.0, outcome="ERROR", sim_time_s=0.0,
+                                error=f"road cannot be built: {error}", extra={"policy": self.policy})
         if self.driver is None:
             self.driver = MetaDriveDriver(self.policy, self.speed_limit_kmh, self.tolerance)
         previous = signal.signal(signal.SIGALRM, _on_alarm)
         signal.setitimer(signal.ITIMER_REAL, self.wall_timeout_s)
         try:
-            result = self.driver.drive(road, broken=fault_injection(road_id),
-                                       record=self.execution_data)
+            result = self.driver.drive(built, broken=fault_injection(road.id), record=self.execution_data)
         except Exception as error:  # MetaDrive's exceptions are of every kind
             signal.setitimer(signal.ITIMER_REAL, 0)
             what = ("MetaDrive took more than %g s of wall time" % self.wall_timeout_s
                     if isinstance(error, WallTimeout) else f"MetaDrive: {type(error).__name__}: {error}")
-            log.exception("road %d: %s; restarting MetaDrive", road_id, what)
-            self.answer({**base, "max_bolp": 0.0, "outcome": "ERROR", "sim_time_s": 0.0,
-                         "error": what, "policy": self.policy,
-                         "wall_s": round(time.monotonic() - started, 3)})
-            self.restart_driver()
-            return
+            log.exception("road %d: %s; restarting MetaDrive", road.id, what)
+            self.broken = True
+            return wogan.Answer(max_bolp=0.0, outcome="ERROR", sim_time_s=0.0, error=what,
+                                extra={"policy": self.policy, "wall_s": round(time.monotonic() - started, 3)})
         finally:
             signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, previous)
-        answer: dict = {**base, "max_bolp": result.max_bolp, "outcome": result.outcome,
-                        "sim_time_s": round(result.sim_time_s, 4),
-                        "min_lane_distance_m": round(result.min_lane_distance_m, 4)}
-        if result.side is not None:
-            answer["oob_side"] = result.side
-        if result.point is not None:
-            answer["oob_point"] = list(result.point)
+        extra: dict = {}
         if result.reason is not None:
-            answer["reason"] = result.reason
-        answer["policy"] = self.policy
+            extra["reason"] = result.reason
+        extra["policy"] = self.policy
         if result.execution_data is not None:
-            answer["execution_data"] = result.execution_data
-        answer["wall_s"] = round(time.monotonic() - started, 3)
-        self.answer(answer)
+            extra["execution_data"] = result.execution_data
+        extra["wall_s"] = round(time.monotonic() - started, 3)
+        return wogan.Answer(max_bolp=result.max_bolp, outcome=result.outcome,
+                            sim_time_s=round(result.sim_time_s, 4), oob_side=result.side, oob_point=result.point,
+                            min_lane_distance_m=round(result.min_lane_distance_m, 4), extra=extra)
 
     def restart_driver(self) -> None:
         """Closes the MetaDrive that failed; the next road starts a new one. If it cannot be
         closed, the process cannot go on safely: exit, and wogan starts a new executor."""
-        driver, self.driver = self.driver, None
+        driver, self.driver, self.broken = self.driver, None, False
         if driver is None:
             return
         try:
             driver.close()
         except BaseException as error:  # noqa: BLE001 - anything here means a broken MetaDrive
             log.error("MetaDrive cannot be closed (%s: %s); exiting", type(error).__name__, error)
-            self.out.flush()
             os._exit(1)
 
-    def run(self, lines: TextIO) -> None:
-        try:
-            for line in lines:
-                if not line.strip():
-                    continue
-                try:
-                    message = json.loads(line)
-                except ValueError:
-                    log.error("not JSON, ignored: %.200s", line)
-                    continue
-                kind = message.get("type") if isinstance(message, dict) else None
-                if kind == "hello":
-                    self.hello(message)
-                elif kind == "road":
-                    self.road(message)
-                elif kind == "bye":
-                    break
-                else:
-                    log.warning("unknown line ignored: %.200s", line)
-        finally:
-            if self.driver is not None:
-                self.driver.close()
-                self.driver = None
+    def close(self) -> None:
+        """`bye`, the end of input or a signal: MetaDrive is closed."""
+        if self.broken:
+            self.restart_driver()
+        elif self.driver is not None:
+            self.driver.close()
+            self.driver = None
 
 
 def _on_alarm(signum: int, frame: Any) -> None:
@@ -934,24 +900,19 @@ def main(argv: Optional[list] = None) -> int:
     parser.add_argument("--log-level", default="INFO", help="of the log on standard error")
     args = parser.parse_args(argv)
 
-    # Standard output carries the protocol only: keep a private copy of it, and send whatever else
-    # writes there (MetaDrive, Panda3D, print) to standard error.
-    protocol_out = os.fdopen(os.dup(sys.stdout.fileno()), "w", buffering=1, encoding="utf-8")
-    sys.stdout.flush()
-    os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
-    sys.stdout = sys.stderr
     logging.basicConfig(level=args.log_level.upper(), stream=sys.stderr,
                         format="[metadrive-executor %(process)d] %(levelname)s %(message)s")
     signal.signal(signal.SIGTERM, _on_terminate)
     signal.signal(signal.SIGINT, _on_terminate)
-    executor = Executor(args.policy, protocol_out, args.road_wall_timeout, args.execution_data)
+    executor = MetaDriveExecutor(args.policy, args.road_wall_timeout, args.execution_data)
     try:
-        executor.run(sys.stdin)
+        # Standard output carries the protocol only: serve() keeps it for that, and sends whatever
+        # else writes there (MetaDrive, Panda3D, print) to standard error. When wogan closes the
+        # answers' pipe, serving ends.
+        executor.serve()
     except SystemExit as stop:
         log.info("stopped by a signal; MetaDrive closed")
         return int(stop.code or 0)
-    except BrokenPipeError:
-        log.info("wogan closed the answers' pipe; MetaDrive closed")
     return 0
 
 

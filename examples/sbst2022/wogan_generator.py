@@ -8,7 +8,8 @@ executor: each valid road wogan's search proposes is handed to the pipeline's ow
 (BeamNG.AI, DAVE-2, or any other), and the drive's largest `oob_percentage`, outcome and
 simulated time go back to wogan, which learns from them. The pipeline keeps its budgets, files
 and analysis as for any generator. wogan talks to this process through two named pipes and a
-small relay (relay.py) that wogan starts as its executor. Standard library only.
+small relay (relay.py) that wogan starts as its executor; this process serves the executor
+protocol on them with the `wogan` Python package's `wogan.Executor` (python/README.md).
 
 Settings through the environment (the pipeline passes only executor and map size):
   WOGAN              the wogan binary (default: `wogan` on PATH)
@@ -18,7 +19,6 @@ Settings through the environment (the pipeline passes only executor and map size
   WOGAN_OUT          where wogan writes its run file (default: wogan-run.jsonl in the current folder)
   WOGAN_ARGS         more `wogan run` options, e.g. "--mutation-share 0.25"
 """
-import json
 import logging as log
 import os
 import shlex
@@ -30,6 +30,9 @@ import threading
 from code_pipeline.tests_generation import RoadTestFactory
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+# Without the package installed (`pip install .` in wogan's checkout), it is found in the checkout.
+sys.path.append(os.path.join(HERE, "..", "..", "python"))
+import wogan  # noqa: E402
 
 
 def largest_bolp(execution_data):
@@ -83,14 +86,7 @@ class WoganGenerator:
             # The relay opens the roads pipe first, then the answers pipe: the same order here.
             with open(roads_fifo) as roads, open(answers_fifo, "w") as answers:
                 try:
-                    for line in roads:
-                        message = json.loads(line)
-                        if message.get("type") == "bye":
-                            break
-                        if message.get("type") != "road":
-                            continue
-                        answers.write(json.dumps(self.drive(message)) + "\n")
-                        answers.flush()
+                    PipelineDrives(self.executor).serve(roads, answers)
                 finally:
                     # Before the pipes close: a road cut short by the pipeline's budget is then
                     # not reported by wogan, as the pipeline does not keep it either.
@@ -110,19 +106,6 @@ class WoganGenerator:
             except OSError:
                 pass
 
-    def drive(self, message):
-        """One road through the pipeline's executor; the answer wogan reads."""
-        points = [tuple(p) for p in message["road_points"]]
-        the_test = RoadTestFactory.create_road_test(points)
-        # The pipeline ends the run from inside execute_test (sys.exit) when a budget is spent.
-        outcome, description, execution_data = self.executor.execute_test(the_test)
-        log.info("wogan road %s as pipeline test %s: %s", message["id"], the_test.id, outcome)
-        timer = execution_data[-1].timer if execution_data else 0.0
-        return {"id": message["id"],
-                "max_bolp": largest_bolp(execution_data),
-                "outcome": outcome if outcome in ("PASS", "FAIL") else "ERROR",
-                "sim_time_s": max(0.0, float(timer))}
-
     def stop(self):
         if self.wogan is not None and self.wogan.poll() is None:
             self.wogan.terminate()
@@ -131,3 +114,25 @@ class WoganGenerator:
             except subprocess.TimeoutExpired:
                 self.wogan.kill()
                 self.wogan.wait()
+
+
+class PipelineDrives(wogan.Executor):
+    """wogan's executor, on the pipes: each road through the pipeline's executor."""
+
+    def __init__(self, executor):
+        super().__init__()
+        self.executor = executor
+
+    def drive(self, road):
+        the_test = RoadTestFactory.create_road_test(list(road.points))
+        # The pipeline ends the run from inside execute_test (sys.exit) when a budget is spent.
+        outcome, description, execution_data = self.executor.execute_test(the_test)
+        log.info("wogan road %s as pipeline test %s: %s", road.id, the_test.id, outcome)
+        timer = execution_data[-1].timer if execution_data else 0.0
+        return wogan.Answer(max_bolp=largest_bolp(execution_data),
+                            outcome=outcome if outcome in ("PASS", "FAIL") else "ERROR",
+                            sim_time_s=max(0.0, float(timer)))
+
+    def drive_failed(self, road, error):
+        # The pipeline's own faults end the generation (as its sys.exit does), not just one road.
+        raise error

@@ -1,16 +1,19 @@
 """An executor for the SBST 2022 tool competition's pipeline (se2p/tool-competition-av) that drives
-every test in one long-lived `wogan simulate` child instead of BeamNG.
+every test in one long-lived `wogan simulate` child instead of BeamNG, through the `wogan` Python
+package's `wogan.Simulator` (python/README.md): one road in, one answer out.
 
-Protocol: one JSON line per test in ({"road_points": ...}), one JSON line out (`wogan simulate`
-in wogan's docs/reference.md).
 The pipeline validates each road and keeps the budgets; this class only drives valid roads.
 """
-import json
 import logging as log
-import subprocess
+import os
+import sys
 
 from code_pipeline.executors import AbstractTestExecutor
 from self_driving.simulation_data import SimulationDataRecord
+
+# Without the package installed (`pip install .` in wogan's checkout), it is found in the checkout.
+sys.path.append(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from wogan import Simulator, WoganError  # noqa: E402  (WoganError: the child died or answered junk)
 
 # How a failed drive is described. The pipeline counts a failure as an OBE only when its description
 # starts with exactly this prefix (trailing space included), as BeamNG's executor writes it.
@@ -19,10 +22,6 @@ OTHER_FAILURES = {
     "not_moving": "Car is not moving fast enough",
     "timeout": "Car did not reach the end of the road in time",
 }
-
-
-class WoganError(RuntimeError):
-    """The child died or answered something that is not an answer to the road we sent."""
 
 
 class WoganExecutor(AbstractTestExecutor):
@@ -35,33 +34,30 @@ class WoganExecutor(AbstractTestExecutor):
         # `wogan` is the binary's path or a command as a list (e.g. ["python3", "fake.py"]).
         # None for oob_tolerance / max_speed_in_kmh keeps the oracle's own defaults; note that
         # competition.py always passes its CLI values (--oob-tolerance defaults to 0.95 there).
-        command = [wogan] if isinstance(wogan, str) else list(wogan)
-        command += ["simulate", "--oracle", oracle, "--map-size", str(map_size), "--execution-data"]
+        options = ["--oracle", oracle, "--map-size", str(map_size), "--execution-data"]
         if oob_tolerance is not None:
-            command += ["--oob-tolerance", str(oob_tolerance)]
+            options += ["--oob-tolerance", str(oob_tolerance)]
         if max_speed_in_kmh is not None:
-            command += ["--speed-limit", str(int(max_speed_in_kmh))]
+            options += ["--speed-limit", str(int(max_speed_in_kmh))]
         # The child is started BEFORE super().__init__(), which starts the budget clock. Its start-up
         # is thus charged to no budget, as with BeamngExecutor, which starts BeamNG inside its first
         # _execute(), time that the pipeline does not count as generation time. (It takes milliseconds.)
-        self.child = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                      text=True, bufsize=1)  # stderr is inherited: wogan's errors show
-        self.lines_sent = 0
+        self.simulator = Simulator(options, binary=wogan)  # its stderr is ours: wogan's errors show
+        self.child = self.simulator.process
         self.last_answer = None  # the full answer to the last test (max_bolp, oob, features...)
         try:
             super().__init__(result_folder, map_size, generation_budget=generation_budget,
                              execution_budget=execution_budget, time_budget=time_budget,
                              road_visualizer=road_visualizer, debug=debug)
         except BaseException:
-            self.child.kill()
-            self.child.wait()
+            self.simulator.kill()
             raise
 
     def _execute(self, the_test):
         # The pipeline's own check: sys.exit(123) when no budget is left (competition.py then
         # post-processes the results from an exit hook).
         super()._execute(the_test)
-        answer = self._ask(the_test)
+        answer = self.simulator.drive(the_test.road_points, label=f"test {the_test.id}")
         self.last_answer = answer
         outcome, reason = answer.get("outcome"), answer.get("reason")
 
@@ -93,43 +89,9 @@ class WoganExecutor(AbstractTestExecutor):
             return "FAIL", f"{OUT_OF_LANE}{where}(wogan test {the_test.id})", execution_data
         return "FAIL", OTHER_FAILURES.get(reason, f"Test failed: {reason}"), execution_data
 
-    def _ask(self, the_test):
-        """Send one road, read one answer; anything else is a WoganError naming the test."""
-        points = [[float(x), float(y)] for x, y in the_test.road_points]
-        try:
-            self.child.stdin.write(json.dumps({"road_points": points}) + "\n")
-            self.child.stdin.flush()
-            line = self.child.stdout.readline()
-        except (BrokenPipeError, ValueError):  # ValueError: the pipe was closed already
-            line = ""
-        self.lines_sent += 1
-        if not line:
-            self.child.poll()
-            raise WoganError(f"wogan simulate (pid {self.child.pid}) ended before answering test "
-                             f"{the_test.id} (exit status {self.child.returncode})")
-        try:
-            answer = json.loads(line)
-        except ValueError:
-            answer = None
-        if (not isinstance(answer, dict) or answer.get("type") not in ("result", "error")
-                or answer.get("line") != self.lines_sent):
-            raise WoganError(f"wogan simulate answered test {the_test.id} with garbage: {line[:200]!r}")
-        return answer
-
     def _close(self):
-        # Closing stdin is wogan's signal to finish: it answers what it has read and exits 0.
-        if not self.child.stdin.closed:
-            try:
-                self.child.stdin.close()
-            except BrokenPipeError:
-                pass
-        try:
-            self.child.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            log.warning("wogan simulate (pid %d) did not exit; killing it", self.child.pid)
-            self.child.kill()
-            self.child.wait()
-        self.child.stdout.close()
-        if self.child.returncode != 0:
-            log.warning("wogan simulate exited with status %s", self.child.returncode)
+        # Closing its input is wogan's sign to finish: it answers what it has read and exits 0.
+        status = self.simulator.close(timeout=10)
+        if status != 0:
+            log.warning("wogan simulate exited with status %s", status)
         super()._close()

@@ -1,5 +1,6 @@
-"""A test executor: "drives" a road by its sharpest bend (BOLP grows with the largest turn
-between two segments), so that some roads fail. With RAISE_AT=N its drive raises at road N."""
+"""A test executor written with wogan.Executor: it "drives" a road by its sharpest bend (BOLP =
+the largest turn between two segments / 0.8 rad, at most 1), so that some roads fail, and prints
+to stdout (which serve() sends to stderr). With RAISE_AT=N its drive raises at road N."""
 
 import math
 import os
@@ -7,16 +8,22 @@ import os
 import wogan
 
 
+def bolp_of(points):
+    headings = [math.atan2(b[1] - a[1], b[0] - a[0]) for a, b in zip(points, points[1:])]
+    turns = [abs(math.remainder(b - a, math.tau)) for a, b in zip(headings, headings[1:])]
+    return min(1.0, max(turns, default=0.0) / 0.8)
+
+
 class Geometric(wogan.Executor):
     def drive(self, road):
         if road.id == int(os.environ.get("RAISE_AT", "0")):
             raise ValueError(f"road {road.id} refused on purpose")
-        headings = [math.atan2(b[1] - a[1], b[0] - a[0]) for a, b in zip(road.points, road.points[1:])]
-        turns = [abs((b - a + math.pi) % (2 * math.pi) - math.pi) for a, b in zip(headings, headings[1:])]
-        bolp = min(1.0, max(turns, default=0.0) / 0.8)
-        print(f"road {road.id}: bolp {bolp:.3f}")  # to stderr: serve() keeps stdout for protocol lines
-        return wogan.Answer(max_bolp=bolp, sim_time_s=10.0,
-                            oob_side="left" if bolp > self.settings["oob_tolerance"] else None)
+        bolp = bolp_of(road.points)
+        print(f"road {road.id}: bolp {bolp:.3f}")  # not a protocol line: it must not reach wogan
+        failed = bolp > self.settings["oob_tolerance"]
+        return wogan.Answer(max_bolp=bolp, sim_time_s=10.0, oob_side="left" if failed else None,
+                            oob_point=road.points[2] if failed else None)
 
 
-Geometric().serve()
+if __name__ == "__main__":
+    Geometric().serve()

@@ -1,67 +1,122 @@
-"""Run files (`wogan run --out`) and suites (`wogan suite`) read back: JSON lines, one record
-each, read strictly, naming the line at fault."""
+"""Run files (`wogan run --out`) and suites (`wogan suite add`) read back: JSON lines, one record
+each, read line by line and strictly, every error naming `path:line` (docs/reference.md,
+"Records" and "wogan suite").
+
+    run = wogan.read_run("run.jsonl")
+    run.header["seed"], len(run.tests), run.summary["failed"]
+"""
 
 import json
+import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Union
+
+Record = Dict[str, Any]
+PathLike = Union[str, "os.PathLike[str]"]
+
+# The record types that open a file, and the ones read into `tests`, per kind of file.
+_HEADERS = {"header": "run", "suite": "suite"}
+_TESTS = {"run": "test", "suite": "road"}
 
 
 class RunFileError(ValueError):
-    """A line of a run or suite file that cannot be read: the message names `path:line`."""
+    """A run or suite file that cannot be read: the message names `path:line` and the fault."""
 
 
 @dataclass
 class Run:
-    """A run: its `header`, its `tests` in order and its `summary` (None for a run cut short).
-    A suite reads as a Run too: `header` is the suite's header line and `tests` its roads.
-    `truncated`: the last line was cut short (a run killed while writing) and was dropped."""
+    """A run or a suite, read.
 
-    header: Optional[Dict[str, Any]] = None
-    tests: List[Dict[str, Any]] = field(default_factory=list)
-    summary: Optional[Dict[str, Any]] = None
-    records: List[Dict[str, Any]] = field(default_factory=list)
+    - `kind`: "run" (a `wogan run` file) or "suite" (a `wogan suite` file).
+    - `header`: the first record (a run's `header`: `version`, `seed`, `oracle`, `config`, ...; a
+      suite's `{"type": "suite", "format": "wogan-suite", "version": 1}`).
+    - `tests`: a run's `test` records, in order (those marked `beyond_budget` included, as
+      written); a suite's `road` records (`name`, `road_points`, `recorded`, `origin`).
+    - `summary`: a run's `summary` record; None for a suite, and for a run cut short (killed, or
+      still being written).
+    - `records`: every record, in order (a run's `train` records too, and any of a kind this
+      reader does not know).
+    - `truncated`: the file's last line was cut short (a run killed while writing it) and was
+      dropped.
+    - `path`: where it was read from; `status`: the exit status of the binary, for a run that
+      `wogan.run` made, else None.
+    """
+
+    kind: str
+    header: Record
+    tests: List[Record] = field(default_factory=list)
+    summary: Optional[Record] = None
+    records: List[Record] = field(default_factory=list)
     truncated: bool = False
+    path: Optional[str] = None
+    status: Optional[int] = None
 
     @property
-    def failures(self) -> List[Dict[str, Any]]:
-        """The failing tests (outcome FAIL)."""
-        return [t for t in self.tests if (t.get("outcome") or t.get("recorded", {}).get("outcome")) == "FAIL"]
+    def failures(self) -> List[Record]:
+        """The failing tests: a run's tests whose outcome is FAIL (those beyond an SBST budget
+        left out, as the summary's `failed` leaves them), a suite's roads recorded as FAIL."""
+        if self.kind == "suite":
+            return [r for r in self.tests if (r.get("recorded") or {}).get("outcome") == "FAIL"]
+        return [t for t in self.tests if t.get("outcome") == "FAIL" and not t.get("beyond_budget")]
 
 
-def read_run(path, allow_truncated: bool = True) -> Run:
-    """Reads a run or a suite file line by line. Every record is kept in `records`; `test` (and a
-    suite's `road`) records in `tests`. A last line without its newline that is not JSON is a
-    write cut short: dropped with `truncated` set when `allow_truncated` (the default, as a run
-    killed by a signal may leave one), else an error. Any other bad line is a RunFileError."""
-    run = Run()
-    with open(path, encoding="utf-8") as source:
-        text = source.read()
-    lines = text.split("\n")
-    last_complete = text.endswith("\n")
-    for number, line in enumerate(lines, 1):
-        if not line.strip():
-            continue
-        is_last = number == len(lines)
-        try:
-            record = json.loads(line)
-        except json.JSONDecodeError as error:
-            if is_last and not last_complete and allow_truncated:
-                run.truncated = True
-                break
-            cut = " (cut short: the file ends inside it)" if is_last and not last_complete else ""
-            raise RunFileError(f"{path}:{number}: not JSON{cut}: {error}") from None
-        if not isinstance(record, dict) or not isinstance(record.get("type"), str):
-            raise RunFileError(f"{path}:{number}: not a record (an object with a \"type\")")
-        kind = record["type"]
-        if kind in ("header", "suite"):
-            if run.header is not None:
-                raise RunFileError(f"{path}:{number}: a second header")
-            run.header = record
-        elif kind in ("test", "road"):
-            run.tests.append(record)
-        elif kind == "summary":
-            run.summary = record
-        run.records.append(record)
-    if run.header is None:
-        raise RunFileError(f"{path}: no header line (not a run or suite file)")
+def read_run(path: PathLike, allow_truncated: bool = True) -> Run:
+    """Reads the run or suite file at `path`, line by line.
+
+    The first record must be a header (`"type": "header"` for a run, `"suite"` for a suite).
+    A line that is not UTF-8 JSON, a record that is not an object with a `"type"`, a second
+    header, a run's `road` or a suite's `test` each raise RunFileError naming `path:line`; blank
+    lines are passed over. A run without a summary is read (`summary` None).
+
+    The last line of a run killed while writing it (or read while wogan still writes) is cut
+    short: no newline, not JSON. With `allow_truncated` (the default: a killed run is common and
+    its whole records are sound) it is dropped and `truncated` is set; with
+    `allow_truncated=False` it is a RunFileError naming its line. Any other bad line is an error
+    either way.
+    """
+    name = os.fspath(path)
+    run: Optional[Run] = None
+    truncated = False
+    with open(name, "rb") as source:
+        for number, raw in enumerate(source, 1):
+            at = f"{name}:{number}"
+            cut = not raw.endswith(b"\n")  # only the last line can lack its newline
+            try:
+                text = raw.decode("utf-8")
+            except UnicodeDecodeError as error:
+                if cut and allow_truncated:  # cut inside a character
+                    truncated = True
+                    break
+                raise RunFileError(f"{at}: not UTF-8 text: {error}") from None
+            if not text.strip():
+                continue
+            try:
+                record = json.loads(text)
+            except ValueError as error:
+                if cut and allow_truncated:
+                    truncated = True
+                    break
+                why = " (the file ends inside it: a run cut short?)" if cut else ""
+                raise RunFileError(f"{at}: not JSON{why}: {error}") from None
+            if not isinstance(record, dict) or not isinstance(record.get("type"), str):
+                raise RunFileError(f"{at}: not a record (a JSON object with a \"type\")")
+            kind = record["type"]
+            if run is None:
+                if kind not in _HEADERS:
+                    raise RunFileError(f"{at}: not a run or suite file: its first record is a {kind!r}, "
+                                       "not a header")
+                run = Run(kind=_HEADERS[kind], header=record, path=name)
+            elif kind in _HEADERS:
+                raise RunFileError(f"{at}: a second header (a {kind!r} record)")
+            elif kind == _TESTS[run.kind]:
+                run.tests.append(record)
+            elif kind in _TESTS.values():
+                raise RunFileError(f"{at}: a {kind!r} record in a {run.kind} file")
+            elif kind == "summary" and run.kind == "run":
+                run.summary = record
+            run.records.append(record)
+    if run is None:
+        what = "its only line is cut short" if truncated else "empty"
+        raise RunFileError(f"{name}: {what}: not a run or suite file")
+    run.truncated = truncated
     return run

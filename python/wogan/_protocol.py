@@ -1,0 +1,171 @@
+"""What both protocols share: JSON objects in, one per line; protocol lines out, each flushed at
+once; nothing else on the protocol's output.
+
+When a class serves on the process's own standard output, that output is set aside for protocol
+lines, and everything else written there goes to standard error from then on: `print`
+(sys.stdout), and a library's native code writing to file descriptor 1 (pointed at standard
+error).
+"""
+
+import contextlib
+import json
+import logging
+import math
+import numbers
+import os
+import signal
+import sys
+import threading
+from typing import IO, Any, Dict, Iterator, Optional, Set, Tuple
+
+log = logging.getLogger("wogan")
+
+Point = Tuple[float, float]
+Message = Dict[str, Any]
+
+
+class Output:
+    """Where protocol lines go: one JSON object per line, flushed; NaN and infinities are refused
+    (they are not JSON). `closed` once the reader went away (a broken pipe)."""
+
+    def __init__(self, stream: IO[str]) -> None:
+        self.stream = stream
+        self.closed = False
+
+    def write(self, message: Message) -> bool:
+        """Writes one line; False when the reader has gone away (nothing more can be said). A
+        message that is not JSON (a NaN, an object of another kind) is a ValueError, and nothing
+        is written."""
+        try:
+            text = json.dumps(message, allow_nan=False) + "\n"
+        except (TypeError, ValueError) as error:
+            raise ValueError(f"the line cannot be written as JSON: {error}") from None
+        if self.closed:
+            return False
+        try:
+            self.stream.write(text)
+            self.stream.flush()
+        except BrokenPipeError:
+            self.closed = True
+            log.info("wogan closed the protocol's output; serving ends")
+            return False
+        return True
+
+
+def messages(source: IO[Any], protocol: str) -> Iterator[Message]:
+    """The JSON objects of `source` (text or bytes, UTF-8), one per line, until it ends. A line
+    that is not a JSON object is named on stderr and passed over: wogan writes only objects."""
+    for number, raw in enumerate(source, 1):
+        try:
+            line = raw.decode("utf-8") if isinstance(raw, bytes) else raw
+            if not line.strip():
+                continue
+            message = json.loads(line)
+        except ValueError as error:  # UnicodeDecodeError and JSONDecodeError are ValueErrors
+            log.warning("%s: input line %d is not JSON, passed over: %s", protocol, number, error)
+            continue
+        if not isinstance(message, dict):
+            log.warning("%s: input line %d is not a JSON object, passed over", protocol, number)
+            continue
+        yield message
+
+
+class UnknownTypes:
+    """Lines of a type this client does not know are passed over (a newer wogan may send more);
+    each such type is named once on stderr."""
+
+    def __init__(self, protocol: str) -> None:
+        self.protocol = protocol
+        self.seen: Set[str] = set()
+
+    def note(self, message: Message) -> None:
+        kind = str(message.get("type"))
+        if kind not in self.seen:
+            self.seen.add(kind)
+            log.warning("%s: lines of type %r are not known to this client; passed over", self.protocol, kind)
+
+
+def check_hello(message: Message, protocol: str, version: int) -> None:
+    """Warns when `hello` names another protocol or version than this client speaks."""
+    if message.get("protocol", protocol) != protocol or message.get("version", version) != version:
+        log.warning("hello of protocol %r version %r; this client speaks %s version %d",
+                    message.get("protocol"), message.get("version"), protocol, version)
+
+
+def settings_of(message: Message) -> Dict[str, Any]:
+    """`hello`'s fields but its type."""
+    return {key: value for key, value in message.items() if key != "type"}
+
+
+def number(value: Any, name: str) -> float:
+    """`value` as a finite float; a ValueError names `name` otherwise."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+        raise ValueError(f"{name}: {value!r} is not a finite number")
+    return float(value)
+
+
+def point(value: Any, name: str) -> Point:
+    """`[x, y]` (any pair of finite numbers) as a tuple of floats; a ValueError names `name`."""
+    try:
+        x, y = value
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: {value!r} is not a point [x, y]") from None
+    return number(x, f"{name}: x"), number(y, f"{name}: y")
+
+
+@contextlib.contextmanager
+def session(source: Optional[IO[Any]], sink: Optional[IO[str]]) -> Iterator[Tuple[IO[Any], Output]]:
+    """The input and the protocol's output of one `serve()`. Streams given are used as they are.
+    By default: standard input, and standard output kept for protocol lines alone, sys.stdout and
+    file descriptor 1 pointing at standard error from then on; while serving, a SIGTERM ends it as
+    `SystemExit(143)` (so that `finally` clauses and `close()` run) unless the program has its own
+    handler."""
+    lines: IO[Any] = getattr(sys.stdin, "buffer", sys.stdin) if source is None else source
+    with contextlib.ExitStack() as stack:
+        if sink is None:
+            sink = stack.enter_context(_stdout_for_protocol())
+            stack.enter_context(_sigterm_as_exit())
+        yield lines, Output(sink)
+
+
+@contextlib.contextmanager
+def _stdout_for_protocol() -> Iterator[IO[str]]:
+    """The process's standard output for protocol lines alone. sys.stdout becomes sys.stderr, and
+    (when both are files) descriptor 1 is pointed at standard error too, the protocol keeping a
+    private copy of it: native code writing to stdout (a simulator's C++) cannot reach wogan
+    either. This lasts after serving: the protocol's output is then closed (the exchange is over),
+    and what is written to stdout later (say, a library printing at exit) still goes to stderr."""
+    real = sys.stdout
+    try:
+        fd, err_fd = real.fileno(), sys.stderr.fileno()
+    except (AttributeError, OSError, ValueError):  # not files (a test's capture): Python level only
+        fd = err_fd = -1
+    real.flush()
+    sys.stdout = sys.stderr
+    if fd < 0:
+        yield real
+        return
+    protocol = os.fdopen(os.dup(fd), "w", encoding="utf-8", newline="\n", closefd=True)
+    os.dup2(err_fd, fd)
+    try:
+        yield protocol
+    finally:
+        with contextlib.suppress(OSError):
+            protocol.close()
+
+
+def _on_sigterm(signum: int, frame: Any) -> None:
+    raise SystemExit(128 + signum)
+
+
+@contextlib.contextmanager
+def _sigterm_as_exit() -> Iterator[None]:
+    if threading.current_thread() is not threading.main_thread() \
+            or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL:
+        yield
+        return
+    signal.signal(signal.SIGTERM, _on_sigterm)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
