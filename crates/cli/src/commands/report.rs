@@ -1,13 +1,16 @@
 //! `wogan report`: a Markdown report with SVG pictures of one or more runs (grouped by their
 //! configuration, or two groups side by side with `--vs`), or a picture of one simulation trace;
-//! with `--table`, the figures as Markdown tables on stdout.
+//! with `--html`, report.html beside it; with `--table`, the figures as Markdown tables on stdout.
 
 use super::Status;
+use crate::interrupt::stop_flag;
 use crate::report;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 /// Options of `wogan report`.
 #[derive(Debug, Args)]
@@ -36,6 +39,16 @@ pub struct ReportArgs {
     /// configuration, or with --vs every measure of A against B.
     #[arg(long, conflicts_with_all = ["trace", "out"])]
     pub table: bool,
+    /// Also write report.html: one self-contained page (it loads nothing) with the runs, the
+    /// failing roads in a table that sorts and filters, each road's detail, and report.md's
+    /// figures and pictures; for a CI job to publish or a browser to open.
+    #[arg(long, requires = "out", conflicts_with_all = ["trace", "table"])]
+    pub html: bool,
+    /// With --html: drive the N failing roads of highest BOLP again, with the driver and settings
+    /// their run recorded (built-in drivers only), so that their detail shows the car's path and
+    /// its BOLP along the drive.
+    #[arg(long, value_name = "N", default_value_t = 0, requires = "html", value_parser = clap::value_parser!(u32).range(0..=10_000))]
+    pub traces: u32,
 }
 
 /// Runs `wogan report`.
@@ -60,7 +73,22 @@ pub fn run(args: &ReportArgs) -> Result<Status> {
                 .with_context(|| format!("cannot create {}", out.display()))?;
             match trace {
                 Some(trace) => report::trace_picture(trace, out)?,
-                None => report::runs_report(&runs, &args.vs, out)?,
+                None => {
+                    // Ctrl-C is caught only when roads are driven again: those drives end
+                    // (ERROR, interrupted) and the page is written with what was done.
+                    let stop = if args.traces > 0 {
+                        stop_flag()?
+                    } else {
+                        Arc::new(AtomicBool::new(false))
+                    };
+                    let html = args.html.then_some((
+                        report::HtmlReport {
+                            traces: args.traces as usize,
+                        },
+                        &*stop,
+                    ));
+                    report::runs_report(&runs, &args.vs, out, html)?
+                }
             }
         }
     };

@@ -2,6 +2,7 @@
 //! is like with like, and the report written from the groups.
 
 use super::group::{GroupFigures, RunMeasures};
+use super::html::{write_html_report, HtmlReport};
 use super::inputs::{run_inputs, InputKind, RunInput};
 use super::markdown::{self, GroupSection};
 use super::pictures::draw_group;
@@ -12,6 +13,7 @@ use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 /// What a report keeps of each run it reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -144,24 +146,29 @@ pub(super) fn group_runs(a_paths: &[PathBuf], b_paths: &[PathBuf], keep: Keep) -
 }
 
 /// Writes `out/report.md` and its pictures for the runs of `a_paths`: grouped by configuration,
-/// or, when `b_paths` is not empty, as two groups compared with Mann–Whitney U tests. Returns how
-/// many inputs were bad (problems, each said on stderr, and runs that did not end normally; what
-/// they hold is reported).
-pub fn runs_report(a_paths: &[PathBuf], b_paths: &[PathBuf], out: &Path) -> Result<usize> {
+/// or, when `b_paths` is not empty, as two groups compared with Mann–Whitney U tests; with `html`,
+/// `out/report.html` too. Returns how many inputs were bad (problems, each said on stderr, and
+/// runs that did not end normally; what they hold is reported).
+pub fn runs_report(
+    a_paths: &[PathBuf],
+    b_paths: &[PathBuf],
+    out: &Path,
+    html: Option<(HtmlReport, &AtomicBool)>,
+) -> Result<usize> {
     let grouped = group_runs(a_paths, b_paths, Keep::Tests)?;
     let bad_inputs = grouped.bad_inputs();
     let mut sections = Vec::new();
-    for (index, (label, runs)) in grouped.groups.into_iter().enumerate() {
+    for (index, (label, runs)) in grouped.groups.iter().enumerate() {
         let slug = format!("g{}", index + 1);
         let runs: Vec<&RunFile> = runs.iter().collect();
         let figures = GroupFigures::of(&runs);
-        let pictures = draw_group(out, &slug, &label, &runs)?;
+        let pictures = draw_group(out, &slug, label, &runs)?;
         let files = runs
             .iter()
             .map(|r| (r.path.display().to_string(), end_note(r)))
             .collect();
         sections.push(GroupSection {
-            label,
+            label: label.clone(),
             files,
             figures,
             pictures,
@@ -169,8 +176,20 @@ pub fn runs_report(a_paths: &[PathBuf], b_paths: &[PathBuf], out: &Path) -> Resu
     }
     let text = markdown::report(&sections, grouped.compare, &grouped.problems);
     let path = out.join("report.md");
-    std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
+    std::fs::write(&path, &text).with_context(|| format!("cannot write {}", path.display()))?;
     eprintln!("wogan report: wrote {}", path.display());
+    if let Some((options, stop)) = html {
+        let groups: Vec<&[RunFile]> = grouped
+            .groups
+            .iter()
+            .map(|(_, runs)| runs.as_slice())
+            .collect();
+        let (path, not_traced) = write_html_report(out, &text, &sections, &groups, options, stop)?;
+        for problem in &not_traced {
+            eprintln!("wogan report: {problem}");
+        }
+        eprintln!("wogan report: wrote {}", path.display());
+    }
     Ok(bad_inputs)
 }
 
