@@ -1313,36 +1313,27 @@ fn ten_thousand_failing_roads_make_a_page_within_its_size_bound() {
     }
 }
 
+/// A seeded 60-test `wogan run` (beamng-ai-proxy) written to `path`, with `more` options.
+fn seeded_run(path: &Path, more: &[&str]) {
+    let mut args = vec![
+        "run",
+        "--max-tests",
+        "60",
+        "--seed",
+        "1",
+        "--out",
+        path_str(path),
+    ];
+    args.extend_from_slice(more);
+    wogan_ok(&args, "");
+}
+
 #[test]
 fn html_page_holds_the_runs_the_failing_roads_and_the_traces_asked_for() {
     let dir = scratch_dir("html-page");
     let (run_a, run_b) = (dir.join("wogan.jsonl"), dir.join("random.jsonl"));
-    wogan_ok(
-        &[
-            "run",
-            "--max-tests",
-            "60",
-            "--seed",
-            "1",
-            "--out",
-            path_str(&run_a),
-        ],
-        "",
-    );
-    wogan_ok(
-        &[
-            "run",
-            "--algorithm",
-            "random",
-            "--max-tests",
-            "60",
-            "--seed",
-            "1",
-            "--out",
-            path_str(&run_b),
-        ],
-        "",
-    );
+    seeded_run(&run_a, &[]);
+    seeded_run(&run_b, &["--algorithm", "random"]);
     let failures = |run: &Path| -> usize {
         let text = read(run);
         let summary: Value =
@@ -1473,18 +1464,7 @@ fn html_report_opens_in_chromium_and_a_click_opens_a_road() {
     }
     let dir = scratch_dir("html-browser");
     let run = dir.join("run.jsonl");
-    wogan_ok(
-        &[
-            "run",
-            "--max-tests",
-            "60",
-            "--seed",
-            "1",
-            "--out",
-            path_str(&run),
-        ],
-        "",
-    );
+    seeded_run(&run, &[]);
     let out = dir.join("report");
     wogan_ok(
         &[
