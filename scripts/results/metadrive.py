@@ -116,6 +116,10 @@ def metadrive_section():
                     "(the car centre's smallest distance to its lane's edges; 0 is the edge).")
         metadrive_field(policy, groups)
     metadrive_speedup()
+    out()
+    out("Whether wogan's presets carry over to MetaDrive, and why the field finds more distinct "
+        "failures on `--policy idm` (the road family, measured by pooling runs): "
+        "docs/experiments/2026-11-28-metadrive-searches-and-field.md, \"2026-11-29\".")
 
 
 def metadrive_field(policy, groups):
