@@ -5,7 +5,8 @@
 //!
 //! The parts: [`failing_roads`] gathers the rows and the geometry the page carries, [`redrive`]
 //! drives the worst of them again to trace them, [`page`] writes the file; `report.css` and
-//! `report.js` are its style and its one script, inlined.
+//! `report.js` are its style and its script, inlined (and a one-line script in its head marks that
+//! scripts run, so that the rows the script pages through are hidden from the first layout).
 
 mod failing_roads;
 mod page;

@@ -16,7 +16,7 @@ use std::sync::atomic::AtomicBool;
 
 /// The page's style.
 const STYLE: &str = include_str!("report.css");
-/// The page's one script: sorting, filtering, the detail view.
+/// The page's script: sorting, filtering and paging the rows, the detail view.
 const SCRIPT: &str = include_str!("report.js");
 /// The file name written beside report.md.
 pub const FILE_NAME: &str = "report.html";
