@@ -16,7 +16,7 @@ import os
 import signal
 import sys
 import threading
-from typing import IO, Any, Dict, Iterator, Optional, Set, Tuple
+from typing import IO, Any, Callable, Dict, Iterator, Optional, Set, Tuple
 
 log = logging.getLogger("wogan")
 
@@ -83,6 +83,28 @@ class UnknownTypes:
         if kind not in self.seen:
             self.seen.add(kind)
             log.warning("%s: lines of type %r are not known to this client; passed over", self.protocol, kind)
+
+
+def exchange(source: IO[Any], protocol: str, version: int,
+             handlers: Dict[str, Callable[[Message], Optional[bool]]],
+             on_hello: Callable[[Dict[str, Any]], None]) -> None:
+    """Hands the JSON objects of `source` on by type until `bye` or the end of input: `hello` is
+    checked against `protocol` and `version` and its settings go to `on_hello`; a type in
+    `handlers` goes to its handler, which returns False to end the exchange (its reader gone);
+    other types are passed over, each named once on stderr."""
+    unknown = UnknownTypes(protocol)
+    for message in messages(source, protocol):
+        kind = message.get("type")
+        if kind == "hello":
+            check_hello(message, protocol, version)
+            on_hello(settings_of(message))
+        elif kind == "bye":
+            return
+        elif isinstance(kind, str) and kind in handlers:
+            if handlers[kind](message) is False:
+                return
+        else:
+            unknown.note(message)
 
 
 def check_hello(message: Message, protocol: str, version: int) -> None:

@@ -152,32 +152,27 @@ class Controller:
         """Steers wogan's car until `bye` or the end of `input`, then calls `close()`. `input` and
         `output` default to standard input and output (see the class); streams given are used as
         they are."""
-        unknown = _protocol.UnknownTypes(PROTOCOL)
         try:
             with _protocol.session(input, output) as (source, out):
-                for message in _protocol.messages(source, PROTOCOL):
-                    kind = message.get("type")
-                    if kind == "step":
-                        observation = observation_of(message)
-                        control = self.step(observation)
-                        if not isinstance(control, Control):
-                            raise TypeError(f"step() returned {type(control).__name__}, not a wogan.Control")
-                        if not out.write(control.to_message(observation.step)):
-                            break
-                    elif kind == "road":
-                        self.begin(road_of(message))
-                    elif kind == "end":
-                        self.end()
-                    elif kind == "hello":
-                        _protocol.check_hello(message, PROTOCOL, VERSION)
-                        self.settings = _protocol.settings_of(message)
-                        self.hello(self.settings)
-                    elif kind == "bye":
-                        break
-                    else:
-                        unknown.note(message)
+                _protocol.exchange(source, PROTOCOL, VERSION, {
+                    "step": lambda m: self._step(m, out),
+                    "road": lambda m: self.begin(road_of(m)),
+                    "end": lambda m: self.end(),
+                }, self._hello)
         finally:
             self.close()
+
+    def _hello(self, settings: Dict[str, Any]) -> None:
+        self.settings = settings
+        self.hello(settings)
+
+    def _step(self, message: Message, out: _protocol.Output) -> bool:
+        """Answers one `step` line with `step()`'s controls; False once `out` is gone."""
+        observation = observation_of(message)
+        control = self.step(observation)
+        if not isinstance(control, Control):
+            raise TypeError(f"step() returned {type(control).__name__}, not a wogan.Control")
+        return out.write(control.to_message(observation.step))
 
 
 def _points(value: Any, name: str) -> List[Point]:

@@ -154,24 +154,16 @@ class Executor:
         """Answers wogan's roads until `bye` or the end of `input`, then calls `close()`.
         `input` and `output` default to standard input and output (see the class); streams
         given (a named pipe, a socket's file) are used as they are."""
-        unknown = _protocol.UnknownTypes(PROTOCOL)
         try:
             with _protocol.session(input, output) as (source, out):
-                for message in _protocol.messages(source, PROTOCOL):
-                    kind = message.get("type")
-                    if kind == "road":
-                        if not self._answer(message, out):
-                            break
-                    elif kind == "hello":
-                        _protocol.check_hello(message, PROTOCOL, VERSION)
-                        self.settings = _protocol.settings_of(message)
-                        self.hello(self.settings)
-                    elif kind == "bye":
-                        break
-                    else:
-                        unknown.note(message)
+                _protocol.exchange(source, PROTOCOL, VERSION, {"road": lambda m: self._answer(m, out)},
+                                   self._hello)
         finally:
             self.close()
+
+    def _hello(self, settings: Dict[str, Any]) -> None:
+        self.settings = settings
+        self.hello(settings)
 
     def _answer(self, message: Message, out: _protocol.Output) -> bool:
         """Drives the road of one `road` line and writes its answer; False once `out` is gone."""
