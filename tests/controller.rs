@@ -93,7 +93,7 @@ fn a_faulty_controller_fails_one_drive_and_is_restarted_for_the_next() {
     let roads = reference_roads(3);
     // (mode, the drive that fails, what its error says)
     for (mode, bad, says) in [
-        ("crash", 1, "ended (or closed its output) before answering; its stderr ended with:\nfaulty controller: crashing at step 5 of drive 2"),
+        ("crash", 1, "it ended with exit status 3 before answering; its stderr ended with:\nfaulty controller: crashing at step 5 of drive 2"),
         ("hang", 1, "no answer within 0.500 s"),
         ("garbage", 1, "the reply is not JSON"),
         ("range", 1, "steering: 5 is outside [-1, 1]"),
@@ -122,6 +122,23 @@ fn a_faulty_controller_fails_one_drive_and_is_restarted_for_the_next() {
             assert!(error.starts_with("the controller: at t = "), "{mode}: {error}");
             assert!(error.contains(says), "{mode}: {error}");
         }
+    }
+}
+
+#[test]
+fn a_controller_whose_stderr_is_not_text_drives_on() {
+    // Its first stderr line closed wogan's reader, and its next write killed it (defect 4).
+    if !python() {
+        return;
+    }
+    let roads = reference_roads(2);
+    let oracle = format!("cmd:python3 {REPO}/tests/python/faulty_controller.py bad-stderr 0 0");
+    let output = wogan(&["simulate", "--oracle", &oracle], &roads);
+    assert_eq!(output.status.code(), Some(0));
+    let answers = records(&output);
+    assert_eq!(answers.len(), 2);
+    for answer in &answers {
+        assert_ne!(answer["outcome"], "ERROR", "{answer}");
     }
 }
 

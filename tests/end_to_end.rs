@@ -14,6 +14,8 @@ mod metadrive;
 mod onnx;
 mod reference_vectors;
 mod report;
+mod report_bounds;
+mod report_html_safety;
 mod robustness;
 mod run;
 mod simulate;

@@ -142,7 +142,13 @@ fn a_lane_distance_search_refuses_answers_without_the_distance() {
 #[test]
 fn a_faulty_executor_fails_one_road_and_is_restarted_for_the_next() {
     for (mode, says) in [
-        ("crash", "ended (or closed its output) before answering; its stderr ended with:\nfaulty executor: crashing at road 4"),
+        ("crash", "it ended with exit status 3 before answering; its stderr ended with:\nfaulty executor: crashing at road 4"),
+        ("status", "it ended with exit status 7 before answering"),
+        ("segv", "it was killed by signal 11 (SIGSEGV) before answering"),
+        // Its own end is seen though the process it started holds its output (not the timeout).
+        ("orphan", "it ended with exit status 0 before answering"),
+        // Escape sequences on its stderr are quoted, never sent to a terminal.
+        ("ansi", "its stderr ended with:\n\\x1b]0;TITLE\\x07\\x1b[2Jcleared"),
         ("hang", "no answer within 1.000 s"),
         ("garbage", "the answer is not JSON"),
         ("range", "max_bolp: 7 is outside [0, 1]"),
@@ -175,6 +181,125 @@ fn a_faulty_executor_fails_one_road_and_is_restarted_for_the_next() {
                 assert_eq!(test["outcome"], "PASS", "{mode}: {test}");
             }
         }
+    }
+}
+
+#[test]
+fn an_executor_must_answer_hello_before_its_first_road() {
+    for (mode, says) in [
+        // An answer written before anything was read is not taken for road 1's (hostile input,
+        // defect 19).
+        ("early", "its first line is not its reply to hello"),
+        // A version 2 executor, which does not answer hello.
+        ("no-hello", "no reply to hello: no answer within 1.000 s"),
+    ] {
+        let Some(executor) = faulty(mode, 0) else {
+            return;
+        };
+        let dir = scratch_dir(&format!("executor-{mode}"));
+        let out = dir.join("run.jsonl");
+        let ran = wogan(
+            &[
+                "run",
+                "--max-tests",
+                "12",
+                "--seed",
+                "3",
+                "--quiet",
+                "--executor",
+                &executor,
+                "--executor-timeout",
+                "1s",
+                "--max-failed-drives",
+                "2",
+                "--out",
+                arg(&out),
+            ],
+            "",
+        );
+        assert_eq!(
+            ran.status.code(),
+            Some(1),
+            "{mode}: {}",
+            String::from_utf8_lossy(&ran.stderr)
+        );
+        let tests = test_records(&out);
+        assert_eq!(tests.len(), 2, "{mode}");
+        for test in &tests {
+            assert_eq!(test["outcome"], "ERROR", "{mode}: {test}");
+            let error = test["error"].as_str().unwrap_or_default();
+            assert!(error.contains(says), "{mode}: {error}");
+        }
+    }
+}
+
+#[test]
+fn an_executors_stderr_neither_kills_it_nor_fills_wogans_memory() {
+    // A first stderr line that is not UTF-8 closed wogan's reader, and the executor died of its
+    // next write (defect 4); stderr without newlines grew wogan by the line (defect 5).
+    for (mode, tests) in [("bad-stderr", 12), ("stderr-flood", 30)] {
+        let Some(executor) = faulty(mode, 0) else {
+            return;
+        };
+        let dir = scratch_dir(&format!("executor-{mode}"));
+        let out = dir.join("run.jsonl");
+        let count = tests.to_string();
+        let ran = run_through(&executor, &count, "3", arg(&out));
+        assert_eq!(
+            ran.status.code(),
+            Some(0),
+            "{mode}: {}",
+            String::from_utf8_lossy(&ran.stderr)
+        );
+        let records = test_records(&out);
+        assert_eq!(records.len(), tests, "{mode}");
+        assert!(records.iter().all(|t| t["outcome"] == "PASS"), "{mode}");
+    }
+}
+
+#[test]
+fn the_summary_says_what_the_executor_said_of_itself() {
+    let Some(executor) = faulty("fail", 2) else {
+        return;
+    };
+    let dir = scratch_dir("executor-described");
+    let out = dir.join("run.jsonl");
+    let ran = run_through(&executor, "3", "3", arg(&out));
+    assert_eq!(
+        ran.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let summary = summary_of(&out);
+    assert_eq!(
+        summary["executor"],
+        serde_json::json!({"name": "faulty", "version": "1", "settings": {"mode": "fail"}, "roads_at_once": 1})
+    );
+}
+
+#[test]
+fn an_executor_timeout_out_of_range_is_refused() {
+    // 2^64 s overflowed a deadline (a panic); 0 failed every road (defect 15).
+    for timeout in ["0", "18446744073709551615s", "213503982334601d"] {
+        let ran = wogan(
+            &[
+                "run",
+                "--max-tests",
+                "3",
+                "--executor",
+                "cmd:true",
+                "--executor-timeout",
+                timeout,
+            ],
+            "",
+        );
+        assert_eq!(ran.status.code(), Some(2), "{timeout}");
+        let stderr = String::from_utf8_lossy(&ran.stderr);
+        assert!(
+            stderr.contains("--executor-timeout") && stderr.contains("100ms to 24h"),
+            "{timeout}: {stderr}"
+        );
     }
 }
 
@@ -266,21 +391,7 @@ fn no_file_starts_an_executor() {
     let dir = scratch_dir("executor-trust");
     let out = dir.join("run.jsonl");
     let executor = format!("cmd:{} simulate", env!("CARGO_BIN_EXE_wogan"));
-    let ran = wogan(
-        &[
-            "run",
-            "--max-tests",
-            "5",
-            "--seed",
-            "1",
-            "--quiet",
-            "--executor",
-            &executor,
-            "--out",
-            arg(&out),
-        ],
-        "",
-    );
+    let ran = run_through(&executor, "5", "1", arg(&out));
     assert_eq!(ran.status.code(), Some(0));
     // A header naming a command that would leave a trace if it ran.
     let canary = dir.join("canary");
@@ -334,21 +445,7 @@ fn a_run_an_executor_drove_reads_back_in_a_report() {
         };
         let dir = scratch_dir(&format!("executor-report-{mode}"));
         let out = dir.join("run.jsonl");
-        let ran = wogan(
-            &[
-                "run",
-                "--max-tests",
-                "6",
-                "--seed",
-                "3",
-                "--quiet",
-                "--executor",
-                &executor,
-                "--out",
-                arg(&out),
-            ],
-            "",
-        );
+        let ran = run_through(&executor, "6", "3", arg(&out));
         assert_eq!(
             ran.status.code(),
             Some(0),
@@ -401,5 +498,129 @@ fn a_run_an_executor_drove_reads_back_in_a_report() {
             row.contains(&format!("| 1 | 1 (1) | {distinct} |")),
             "{mode}: one run, one failing road, distinct {distinct}: {stdout}"
         );
+    }
+}
+
+/// `cmd:` and the concurrent executor (tests/python/concurrent_executor.py) in `mode`, taking
+/// `at_once` roads, misbehaving at road `id`.
+fn concurrent(mode: &str, at_once: usize, id: usize) -> String {
+    format!(
+        "cmd:python3 {}/../../tests/python/concurrent_executor.py {mode} {at_once} {id}",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+/// `wogan run --max-tests TESTS --seed SEED --quiet --executor EXECUTOR --out OUT`.
+fn run_through(executor: &str, tests: &str, seed: &str, out: &str) -> std::process::Output {
+    wogan(
+        &[
+            "run",
+            "--max-tests",
+            tests,
+            "--seed",
+            seed,
+            "--quiet",
+            "--executor",
+            executor,
+            "--out",
+            out,
+        ],
+        "",
+    )
+}
+
+/// A 40-test run with `--jobs 4` through `executor`: its test records and summary.
+fn run_with(
+    executor: &str,
+    name: &str,
+    extra: &[&str],
+) -> (Vec<Value>, Value, std::process::Output) {
+    let dir = scratch_dir(name);
+    let out = dir.join("run.jsonl");
+    let ran = wogan(
+        &[
+            &[
+                "run",
+                "--max-tests",
+                "40",
+                "--seed",
+                "5",
+                "--jobs",
+                "4",
+                "--quiet",
+                "--executor",
+                executor,
+                "--out",
+                arg(&out),
+            ][..],
+            extra,
+        ]
+        .concat(),
+        "",
+    );
+    (test_records(&out), summary_of(&out), ran)
+}
+
+#[test]
+fn an_executor_that_takes_several_roads_answers_in_any_order_with_the_same_records() {
+    // Roads in flight, answered out of order, give the records of one road at a time.
+    let (at_once, summary, ran) = run_with(&concurrent("ok", 4, 0), "executor-at-once", &[]);
+    assert_eq!(
+        ran.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let (one, _, ran) = run_with(&concurrent("ok", 1, 0), "executor-one-at-once", &[]);
+    assert_eq!(
+        ran.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    assert_eq!(at_once.len(), 40);
+    let comparable = |tests: &[Value]| -> Vec<(Value, Value, Value, Value)> {
+        tests
+            .iter()
+            .map(|t| {
+                (
+                    t["id"].clone(),
+                    t["road_points"].clone(),
+                    t["outcome"].clone(),
+                    t["max_bolp"].clone(),
+                )
+            })
+            .collect()
+    };
+    assert_eq!(comparable(&at_once), comparable(&one));
+    assert!(
+        at_once.iter().any(|t| t["outcome"] == "FAIL")
+            && at_once.iter().any(|t| t["outcome"] == "PASS")
+    );
+    assert_eq!(summary["executor"]["roads_at_once"], 4);
+}
+
+#[test]
+fn faults_of_an_executor_holding_several_roads_end_those_roads_and_the_run_goes_on() {
+    for (mode, says) in [
+        ("twice", "a second answer to road 9"),
+        // Named as a road not sent, or (when it was the only road in flight) as its answer's id.
+        ("unsent", "1009"),
+        ("die", "it ended with exit status 3 before answering; its stderr ended with:\nconcurrent executor: dying at road 9"),
+    ] {
+        let (tests, summary, ran) = run_with(&concurrent(mode, 4, 9), &format!("executor-at-once-{mode}"), &["--max-failed-drives", "20"]);
+        assert_eq!(ran.status.code(), Some(0), "{mode}: {}", String::from_utf8_lossy(&ran.stderr));
+        // Every test once, in order: none lost, none twice.
+        let ids: Vec<u64> = tests.iter().map(|t| t["id"].as_u64().unwrap()).collect();
+        assert_eq!(ids, (1..=40).collect::<Vec<_>>(), "{mode}");
+        let failed: Vec<&Value> = tests.iter().filter(|t| t["outcome"] == "ERROR").collect();
+        assert!(!failed.is_empty() && failed.len() <= 4, "{mode}: {} roads failed", failed.len());
+        for test in &failed {
+            let error = test["error"].as_str().unwrap_or_default();
+            assert!(error.contains(says), "{mode}: {error}");
+        }
+        // A new executor took the roads after the fault.
+        assert!(tests[20..].iter().all(|t| t["outcome"] != "ERROR"), "{mode}");
+        assert_eq!(summary["executor"]["roads_at_once"], 4);
     }
 }

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Dev-time smoke check of the MetaDrive executor (run examples/metadrive/setup.sh first):
-#  1. protocol lines piped in: a straight road PASSes, a tight left U-turn FAILs out of its lane
-#     with an oob_side, a road that is no road is answered ERROR, with idm; the straight road
-#     PASSes with expert;
+#  1. protocol lines piped in: hello is answered first (protocol version 3); a straight road
+#     PASSes, a tight left U-turn FAILs out of its lane with an oob_side, a road that is no road
+#     is answered ERROR, with idm; the straight road PASSes with expert;
 #  2. BOLP as wogan's lane monitor has it: the executor's lane monitor on the samples of
 #     `wogan simulate --trace` gives wogan's BOLP;
 #  3. `wogan run --executor ... --jobs 2 --max-tests 20`: every test answered, no executor left;
@@ -29,17 +29,23 @@ ok() { echo "ok   $*"; }
 bad() { echo "FAIL $*"; failures=$((failures + 1)); }
 executors() { pgrep -f "$executor" | sort || true; }
 
-hello='{"type":"hello","protocol":"wogan-executor","version":2,"units":"metres, seconds","map_size_m":200.0,"oob_tolerance":0.85,"speed_limit_kmh":70.0}'
+hello='{"type":"hello","protocol":"wogan-executor","version":3,"units":"metres, seconds","map_size_m":200.0,"oob_tolerance":0.85,"speed_limit_kmh":70.0}'
 straight='[[100.0,10.0],[100.0,25.0],[100.0,40.0],[100.0,55.0],[100.0,70.0],[100.0,85.0]]'
 u_turn='[[100.0,10.0],[100.0,25.0],[90.0,35.0],[75.0,35.0],[65.0,25.0],[65.0,10.0]]'
 
-# Checks answer lines (file $1) against expectations "ID:OUTCOME[:SIDE]".
+# Checks the reply to hello, then the answer lines (file $1) against expectations "ID:OUTCOME[:SIDE]".
 expect() {
     "$py" - "$@" <<'EOF'
 import json, sys
+lines = [json.loads(line) for line in open(sys.argv[1])]  # stdout must hold protocol lines only
+reply = lines.pop(0) if lines else None
+if not (isinstance(reply, dict) and reply.get("type") == "hello" and reply.get("version") == 3
+        and reply.get("executor", {}).get("name") == "wogan-metadrive-executor"):
+    print(f"FAIL the first line is no reply to hello: {json.dumps(reply)}")
+    sys.exit(1)
+print(f"ok   reply to hello: {json.dumps(reply['executor'])}")
 answers = {}
-for line in open(sys.argv[1]):
-    a = json.loads(line)  # stdout must hold protocol lines only
+for a in lines:
     answers[a["id"]] = a
 for spec in sys.argv[2:]:
     road, outcome, *side = spec.split(":")
@@ -148,7 +154,7 @@ started=$EPOCHREALTIME
 total=$("$py" -c "print($EPOCHREALTIME - $started)")
 "$py" - "$work/cost.out" "$total" "$run_wall" <<'EOF'
 import json, sys
-answers = [json.loads(line) for line in open(sys.argv[1])]
+answers = [a for a in map(json.loads, open(sys.argv[1])) if a.get("type") != "hello"]  # after the reply
 first, rest = answers[0], answers[1:]
 driving = sum(a["wall_s"] for a in rest)
 sim = sum(a["sim_time_s"] for a in rest)

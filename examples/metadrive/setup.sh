@@ -59,7 +59,7 @@ EOF
 
 # A drive of one straight road, offline: the executor must answer PASS.
 answer=$(printf '%s\n' \
-    '{"type":"hello","protocol":"wogan-executor","version":2,"units":"metres, seconds","map_size_m":200.0,"oob_tolerance":0.85,"speed_limit_kmh":70.0}' \
+    '{"type":"hello","protocol":"wogan-executor","version":3,"units":"metres, seconds","map_size_m":200.0,"oob_tolerance":0.85,"speed_limit_kmh":70.0}' \
     '{"type":"road","id":1,"road_points":[[100.0,10.0],[100.0,40.0],[100.0,70.0],[100.0,85.0]]}' \
     '{"type":"bye"}' \
     | "$venv/bin/python" "$here/executor.py" --policy idm --log-level WARNING) \

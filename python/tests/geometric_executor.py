@@ -1,7 +1,10 @@
 """A test executor written with wogan.Executor: it "drives" a road by its sharpest bend (BOLP =
 the largest turn between two segments / 0.8 rad, at most 1), so that some roads fail, and prints
-to stdout (which serve() sends to stderr). With RAISE_AT=N its drive raises at road N."""
+to stdout (which serve() sends to stderr). With RAISE_AT=N its drive raises at road N; with
+HELLO_TO=FILE its hello hook appends hello's fields to FILE, a JSON line; with HELLO_RAISES=1 it
+raises (a simulator that does not start)."""
 
+import json
 import math
 import os
 
@@ -15,6 +18,18 @@ def bolp_of(points):
 
 
 class Geometric(wogan.Executor):
+    version = "1.0"
+
+    def hello(self, settings):
+        if os.environ.get("HELLO_RAISES") == "1":
+            raise RuntimeError("the simulator did not start")
+        if os.environ.get("HELLO_TO"):
+            with open(os.environ["HELLO_TO"], "a") as f:
+                f.write(json.dumps(settings) + "\n")
+
+    def reported_settings(self):
+        return {"bolp": "sharpest turn / 0.8 rad"}
+
     def drive(self, road):
         if road.id == int(os.environ.get("RAISE_AT", "0")):
             raise ValueError(f"road {road.id} refused on purpose")

@@ -1,6 +1,7 @@
 """wogan.Controller, Observation, Frame and Control: in-process over given streams, and a
 controller written with the class driving real searches and drives."""
 
+import fractions
 import io
 import json
 
@@ -62,6 +63,18 @@ def test_controls_are_checked_or_clamped():
     assert wogan.Control.clamped(-3.0, 2.0, -1.0) == wogan.Control(-1.0, 1.0, 0.0)
     with pytest.raises(ValueError, match="steering"):
         wogan.Control.clamped(float("inf"), 0.0)
+    # Numbers beyond a float's range: refused by name when made, clamped by clamped().
+    for fields, says in [({"steering": 10**400, "throttle": 0}, "steering: 1000"),
+                         ({"steering": 0, "throttle": fractions.Fraction(-10**400, 7)}, r"throttle: Fraction\(-1000"),
+                         ({"steering": 0, "throttle": 0, "brake": 10**5000}, "brake: <int too large to show>")]:
+        with pytest.raises(ValueError, match=f"{says}.* beyond a float's range"):
+            wogan.Control(**fields)
+    assert wogan.Control.clamped(steering=10**400, throttle=0) == wogan.Control(1.0, 0.0, 0.0)
+    assert wogan.Control.clamped(-10**400, fractions.Fraction(10**400, 3), 10**5000) == wogan.Control(-1.0, 1.0, 1.0)
+    assert wogan.Control.clamped(fractions.Fraction(1, 10**400), -10**400) == wogan.Control(0.0, 0.0, 0.0)
+    for steering in (float("nan"), float("-inf"), "1", None, True):
+        with pytest.raises(ValueError, match="steering: .* not a finite number"):
+            wogan.Control.clamped(steering, 0.0)
     frame = wogan.Frame(3, 2, [0, 1, 2, 10, 11, 12])
     assert (frame.pixel(2, 1), frame.row(0)) == (12, [0, 1, 2])
     with pytest.raises(IndexError):

@@ -1,6 +1,7 @@
 """wogan.read_run: a run and a suite made by the binary, files cut short, bad lines."""
 
 import json
+import tracemalloc
 
 import pytest
 from helpers import command, wogan_cli
@@ -88,3 +89,61 @@ def test_text_that_is_not_utf8_is_named(tmp_path):
     bad.write_bytes(b'{"type":"header"}\n{"type":"test","name":"\xff"}\n')
     with pytest.raises(wogan.RunFileError, match=r"bad\.jsonl:2: not UTF-8"):
         wogan.read_run(bad)
+
+
+@pytest.mark.parametrize("value, says", [
+    ("NaN", "NaN is not JSON"), ("Infinity", "Infinity is not JSON"), ("-Infinity", "-Infinity is not JSON"),
+    ("1e400", "the number 1e400 is beyond a float's range"), ("-1E+400", "the number -1E\\+400 is beyond"),
+    ("1" + "0" * 400, "the number 1000.* is beyond a float's range"),
+    ("9" * 5000, r"the number 9999.*\(5000 characters\) is beyond"),
+])
+def test_numbers_the_binary_refuses_are_named(tmp_path, value, says):
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text('{"type":"header"}\n{"type":"test","id":1,"oob":{"x":[' + value + ']}}\n')
+    with pytest.raises(wogan.RunFileError, match=rf"bad\.jsonl:2: not JSON: {says}"):
+        wogan.read_run(bad)
+
+
+def test_numbers_a_float_holds_are_read_as_before(tmp_path):
+    values = ["1e308", "-1.7976931348623157e308", "5e-324", "-0.0", "123456789012345678901234567890", "7"]
+    good = tmp_path / "good.jsonl"
+    good.write_text('{"type":"header"}\n{"type":"test","values":[' + ", ".join(values) + "]}\n")
+    assert wogan.read_run(good).tests[0]["values"] == [json.loads(v) for v in values]
+    assert [type(v) for v in wogan.read_run(good).tests[0]["values"][-2:]] == [int, int]
+
+
+def test_deep_nesting_is_named_not_a_recursion_error(tmp_path):
+    deep = tmp_path / "deep.jsonl"
+    deep.write_text('{"type":"header"}\n' + "[" * 100000 + "]" * 100000 + "\n")
+    with pytest.raises(wogan.RunFileError, match=r"deep\.jsonl:2: not JSON: nested too deeply"):
+        wogan.read_run(deep)
+
+
+def test_lines_are_bounded_and_a_longer_one_is_named_without_being_held(tmp_path):
+    bound = wogan.run_file.MAX_LINE_BYTES
+    assert bound == 16 * 1024 * 1024
+    opening = '{"type":"test","pad":"'
+    # A line of exactly the bound (its newline not counted) is read.
+    longest = tmp_path / "longest.jsonl"
+    longest.write_text('{"type":"header"}\n' + opening + "a" * (bound - len(opening) - 2) + '"}\n')
+    assert len(wogan.read_run(longest).tests[0]["pad"]) == bound - len(opening) - 2
+    # One byte more is refused, naming its line, with or without a newline, whatever follows.
+    for ending in ("\n", "", '\n{"type":"summary"}\n'):
+        longer = tmp_path / "longer.jsonl"
+        longer.write_text('{"type":"header"}\n\n' + opening + "a" * (bound - len(opening) - 1) + '"}' + ending)
+        with pytest.raises(wogan.RunFileError, match=r"longer\.jsonl:3: a line longer than 16777216 bytes"):
+            wogan.read_run(longer, allow_truncated=True)
+    # A line four times the bound is refused, holding little more than the bound.
+    huge = tmp_path / "huge.jsonl"
+    with open(huge, "w") as f:
+        f.write('{"type":"header"}\n' + opening)
+        for _ in range(4):
+            f.write("a" * bound)
+    tracemalloc.start()
+    try:
+        with pytest.raises(wogan.RunFileError, match=r"huge\.jsonl:2: a line longer"):
+            wogan.read_run(huge)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < bound + 2 * 1024 * 1024, peak  # the bound, a piece read, and a little

@@ -36,10 +36,7 @@ class Output:
         """Writes one line; False when the reader has gone away (nothing more can be said). A
         message that is not JSON (a NaN, an object of another kind) is a ValueError, and nothing
         is written."""
-        try:
-            text = json.dumps(message, allow_nan=False) + "\n"
-        except (TypeError, ValueError) as error:
-            raise ValueError(f"the line cannot be written as JSON: {error}") from None
+        text = line(message)
         if self.closed:
             return False
         try:
@@ -52,6 +49,22 @@ class Output:
         return True
 
 
+def line(message: Message) -> str:
+    """`message` as one protocol line, its newline included; a ValueError when it is not JSON (a
+    NaN, an object of another kind)."""
+    try:
+        return json.dumps(message, allow_nan=False) + "\n"
+    except (TypeError, ValueError, RecursionError) as error:
+        raise ValueError(f"the line cannot be written as JSON: {error}") from None
+
+
+def sendable(message: Message) -> Message:
+    """`message`, once it is known to make a protocol line (a ValueError says why not): an answer
+    made in one process and written by another is checked where it is made."""
+    line(message)
+    return message
+
+
 def messages(source: IO[Any], protocol: str) -> Iterator[Message]:
     """The JSON objects of `source` (text or bytes, UTF-8), one per line, until it ends. A line
     that is not a JSON object is named on stderr and passed over: wogan writes only objects."""
@@ -61,7 +74,7 @@ def messages(source: IO[Any], protocol: str) -> Iterator[Message]:
             if not line.strip():
                 continue
             message = json.loads(line)
-        except ValueError as error:  # UnicodeDecodeError and JSONDecodeError are ValueErrors
+        except (ValueError, RecursionError) as error:  # UnicodeDecodeError, JSONDecodeError: ValueErrors
             log.warning("%s: input line %d is not JSON, passed over: %s", protocol, number, error)
             continue
         if not isinstance(message, dict):
@@ -87,17 +100,19 @@ class UnknownTypes:
 
 def exchange(source: IO[Any], protocol: str, version: int,
              handlers: Dict[str, Callable[[Message], Optional[bool]]],
-             on_hello: Callable[[Dict[str, Any]], None]) -> None:
+             on_hello: Callable[[Dict[str, Any]], Optional[bool]], oldest: Optional[int] = None) -> None:
     """Hands the JSON objects of `source` on by type until `bye` or the end of input: `hello` is
-    checked against `protocol` and `version` and its settings go to `on_hello`; a type in
-    `handlers` goes to its handler, which returns False to end the exchange (its reader gone);
-    other types are passed over, each named once on stderr."""
+    checked against `protocol` and the versions this client serves (`oldest` to `version`; by
+    default `version` alone) and its settings go to `on_hello`; a type in `handlers` goes to its
+    handler. `on_hello` or a handler returns False to end the exchange (its reader gone); other
+    types are passed over, each named once on stderr."""
     unknown = UnknownTypes(protocol)
     for message in messages(source, protocol):
         kind = message.get("type")
         if kind == "hello":
-            check_hello(message, protocol, version)
-            on_hello(settings_of(message))
+            check_hello(message, protocol, version, version if oldest is None else oldest)
+            if on_hello(settings_of(message)) is False:
+                return
         elif kind == "bye":
             return
         elif isinstance(kind, str) and kind in handlers:
@@ -107,11 +122,14 @@ def exchange(source: IO[Any], protocol: str, version: int,
             unknown.note(message)
 
 
-def check_hello(message: Message, protocol: str, version: int) -> None:
-    """Warns when `hello` names another protocol or version than this client speaks."""
-    if message.get("protocol", protocol) != protocol or message.get("version", version) != version:
-        log.warning("hello of protocol %r version %r; this client speaks %s version %d",
-                    message.get("protocol"), message.get("version"), protocol, version)
+def check_hello(message: Message, protocol: str, version: int, oldest: int) -> None:
+    """Warns when `hello` names another protocol, or a version outside `oldest` to `version`."""
+    said = message.get("version", version)
+    served = isinstance(said, int) and not isinstance(said, bool) and oldest <= said <= version
+    if message.get("protocol", protocol) != protocol or not served:
+        versions = f"{version}" if oldest == version else f"{oldest} to {version}"
+        log.warning("hello of protocol %r version %r; this client speaks %s version %s",
+                    message.get("protocol"), message.get("version"), protocol, versions)
 
 
 def settings_of(message: Message) -> Dict[str, Any]:
@@ -119,19 +137,72 @@ def settings_of(message: Message) -> Dict[str, Any]:
     return {key: value for key, value in message.items() if key != "type"}
 
 
+def shown(value: Any, limit: int = 60) -> str:
+    """`repr(value)` for a message, cut to about `limit` characters: a huge number or a long text
+    stays readable (and an int past Python's digit limit for text does not fail)."""
+    try:
+        text = repr(value)
+    except Exception:  # noqa: BLE001 - ValueError for an int past sys.get_int_max_str_digits()
+        return f"<{type(value).__name__} too large to show>"
+    if len(text) <= limit:
+        return text
+    return f"{text[:limit - 20]}...{text[-10:]} ({len(text)} characters)"
+
+
+def _real(value: Any, name: str) -> None:
+    """A ValueError naming `name` unless `value` is a real number (bool is not)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name}: {shown(value)} is not a finite number")
+
+
 def number(value: Any, name: str) -> float:
-    """`value` as a finite float; a ValueError names `name` otherwise."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
-        raise ValueError(f"{name}: {value!r} is not a finite number")
-    return float(value)
+    """`value` as a finite float; a ValueError names `name` otherwise: NaN, infinities, and real
+    numbers beyond a float's range (an int of 400 digits, a huge Fraction), which JSON lines
+    cannot carry either."""
+    _real(value, name)
+    try:
+        result = float(value)
+    except (OverflowError, ValueError):
+        raise ValueError(f"{name}: {shown(value)} is not a finite number: beyond a float's range") from None
+    if not math.isfinite(result):
+        raise ValueError(f"{name}: {shown(value)} is not a finite number")
+    return result
+
+
+def clamped(value: Any, name: str, low: float, high: float) -> float:
+    """`value` clamped into `[low, high]`, as a float: any finite real number, those beyond a
+    float's range too (an int of 400 digits is clamped to `high`); a ValueError names `name` for
+    NaN, infinities and what is not a number."""
+    _real(value, name)
+    try:
+        result = float(value)
+    except OverflowError:  # a finite number too large for a float: beyond either bound
+        return high if value > 0 else low
+    except ValueError:
+        raise ValueError(f"{name}: {shown(value)} is not a finite number") from None
+    if not math.isfinite(result):
+        raise ValueError(f"{name}: {shown(value)} is not a finite number")
+    return max(low, min(high, result))
+
+
+def json_object(value: Any, name: str) -> None:
+    """A ValueError naming `name` unless `value` is a dict that JSON lines carry as it is: text
+    keys, no NaN or infinity, nothing JSON has no form for, no cycle."""
+    if not isinstance(value, dict):
+        raise ValueError(f"{name}: {type(value).__name__} is not a dict")
+    try:
+        json.dumps(value, allow_nan=False)
+    except (TypeError, ValueError, RecursionError) as error:
+        raise ValueError(f"{name}: not JSON: {error}") from None
 
 
 def point(value: Any, name: str) -> Point:
-    """`[x, y]` (any pair of finite numbers) as a tuple of floats; a ValueError names `name`."""
+    """`[x, y]` (any pair of finite numbers, an iterator too) as a tuple of floats; a ValueError
+    names `name`."""
     try:
         x, y = value
     except (TypeError, ValueError):
-        raise ValueError(f"{name}: {value!r} is not a point [x, y]") from None
+        raise ValueError(f"{name}: {shown(value)} is not a point [x, y]") from None
     return number(x, f"{name}: x"), number(y, f"{name}: y")
 
 

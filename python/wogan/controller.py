@@ -93,15 +93,16 @@ class Control:
         for name, low in (("steering", -1.0), ("throttle", 0.0), ("brake", 0.0)):
             value = _protocol.number(getattr(self, name), name)
             if not low <= value <= 1.0:
-                raise ValueError(f"{name}: {getattr(self, name)!r} is outside [{low:g}, 1]")
+                raise ValueError(f"{name}: {_protocol.shown(getattr(self, name))} is outside [{low:g}, 1]")
 
     @classmethod
     def clamped(cls, steering: float, throttle: float, brake: float = 0.0) -> "Control":
-        """The controls, each clamped into its range (a value that is not a finite number is
-        still a ValueError)."""
-        def clamp(value: float, name: str, low: float) -> float:
-            return max(low, min(1.0, _protocol.number(value, name)))
-        return cls(clamp(steering, "steering", -1.0), clamp(throttle, "throttle", 0.0), clamp(brake, "brake", 0.0))
+        """The controls, each clamped into its range: any finite real number, one too large for a
+        float too (10**400 is 1). NaN, an infinity or what is not a number is still a
+        ValueError naming the control."""
+        return cls(_protocol.clamped(steering, "steering", -1.0, 1.0),
+                   _protocol.clamped(throttle, "throttle", 0.0, 1.0),
+                   _protocol.clamped(brake, "brake", 0.0, 1.0))
 
     def to_message(self, step: int) -> Message:
         """The reply line to step `step`, as a dict (serve() writes it)."""

@@ -7,12 +7,22 @@ each, read line by line and strictly, every error naming `path:line` (docs/refer
 """
 
 import json
+import math
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional, Union
+from typing import IO, Any, Dict, List, Optional, Union
 
 Record = Dict[str, Any]
 PathLike = Union[str, "os.PathLike[str]"]
+
+# The longest line read, in bytes (its newline not counted): the binary's bound on the lines it
+# reads. A longer line is a RunFileError, found without holding more than this in memory.
+MAX_LINE_BYTES = 16 * 1024 * 1024
+# A line is read a piece of this many bytes at a time.
+_PIECE_BYTES = 1024 * 1024
+# The longest integer read, in characters: longer ones are beyond a float's range, which the
+# binary's JSON reader refuses (checked before converting: a long digit string costs time).
+_MAX_INT_CHARACTERS = 400
 
 # The record types that open a file, and the ones read into `tests`, per kind of file.
 _HEADERS = {"header": "run", "suite": "suite"}
@@ -21,6 +31,62 @@ _TESTS = {"run": "test", "suite": "road"}
 
 class RunFileError(ValueError):
     """A run or suite file that cannot be read: the message names `path:line` and the fault."""
+
+
+class _LineTooLong(Exception):
+    """A line longer than MAX_LINE_BYTES."""
+
+
+def _line(source: IO[bytes]) -> Optional[bytes]:
+    """The next line of `source` and its newline, None at the end, read a piece at a time:
+    _LineTooLong once a line is found longer than MAX_LINE_BYTES (no more of it is read)."""
+    pieces: List[bytes] = []
+    held = 0
+    while True:
+        piece = source.readline(min(_PIECE_BYTES, MAX_LINE_BYTES + 1 - held))
+        if not piece:
+            break
+        pieces.append(piece)
+        held += len(piece)
+        if piece.endswith(b"\n"):
+            break
+        if held > MAX_LINE_BYTES:
+            raise _LineTooLong()
+    if len(pieces) > 1:
+        return b"".join(pieces)
+    return pieces[0] if pieces else None
+
+
+def _not_json(token: str) -> Any:
+    raise ValueError(f"{token} is not JSON (a number must be finite)")
+
+
+def _finite_float(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"the number {_cut(text)} is beyond a float's range")
+    return value
+
+
+def _float_sized_int(text: str) -> int:
+    if len(text) <= _MAX_INT_CHARACTERS:
+        value = int(text)
+        try:
+            float(value)
+            return value
+        except OverflowError:
+            pass
+    raise ValueError(f"the number {_cut(text)} is beyond a float's range")
+
+
+def _cut(text: str) -> str:
+    return text if len(text) <= 40 else f"{text[:30]}... ({len(text)} characters)"
+
+
+def _record_of(text: str) -> Any:
+    """The JSON value of one line, read as the binary reads it: NaN, Infinity and numbers beyond
+    a float's range (1e400) are not JSON (ValueError); nesting too deep is a RecursionError."""
+    return json.loads(text, parse_constant=_not_json, parse_float=_finite_float, parse_int=_float_sized_int)
 
 
 @dataclass
@@ -64,9 +130,11 @@ def read_run(path: PathLike, allow_truncated: bool = True) -> Run:
     """Reads the run or suite file at `path`, line by line.
 
     The first record must be a header (`"type": "header"` for a run, `"suite"` for a suite).
-    A line that is not UTF-8 JSON, a record that is not an object with a `"type"`, a second
-    header, a run's `road` or a suite's `test` each raise RunFileError naming `path:line`; blank
-    lines are passed over. A run without a summary is read (`summary` None).
+    A line that is not UTF-8 JSON (NaN, Infinity and numbers beyond a float's range such as 1e400
+    are not: the binary refuses them too), one nested too deeply, one longer than
+    `MAX_LINE_BYTES` (16 MiB), a record that is not an object with a `"type"`, a second header, a
+    run's `road` or a suite's `test` each raise RunFileError naming `path:line`; blank lines are
+    passed over. A run without a summary is read (`summary` None).
 
     The last line of a run killed while writing it (or read while wogan still writes) is cut
     short: no newline, not JSON. With `allow_truncated` (the default: a killed run is common and
@@ -78,8 +146,17 @@ def read_run(path: PathLike, allow_truncated: bool = True) -> Run:
     run: Optional[Run] = None
     truncated = False
     with open(name, "rb") as source:
-        for number, raw in enumerate(source, 1):
+        number = 0
+        while True:
+            number += 1
             at = f"{name}:{number}"
+            try:
+                raw = _line(source)
+            except _LineTooLong:
+                raise RunFileError(f"{at}: a line longer than {MAX_LINE_BYTES} bytes (16 MiB), the longest "
+                                   "a run or suite file may hold") from None
+            if raw is None:
+                break
             cut = not raw.endswith(b"\n")  # only the last line can lack its newline
             try:
                 text = raw.decode("utf-8")
@@ -91,7 +168,9 @@ def read_run(path: PathLike, allow_truncated: bool = True) -> Run:
             if not text.strip():
                 continue
             try:
-                record = json.loads(text)
+                record = _record_of(text)
+            except RecursionError:
+                raise RunFileError(f"{at}: not JSON: nested too deeply to read") from None
             except ValueError as error:
                 if cut and allow_truncated:
                     truncated = True

@@ -8,10 +8,16 @@ library only: no playwright, no websocket):
 - a click on the "max BOLP" header sorts the rows by it, highest first after a second click;
 - a click on a row opens that road's detail (its title names the test, a picture of the road;
   with `--expect-trace`, the car's path and its BOLP along the drive);
-- a screenshot of the failing roads with a detail open is written (`--screenshot`).
+- a screenshot of the failing roads with a detail open is written (`--screenshot`);
+- with `--hostile` (a page of runs whose headers, file names and errors carry HTML, links and
+  pictures), that all of it stayed text: the document's title is the page's own, no element
+  carries an `on*` attribute, the only scripts are the page's own three, no link leads anywhere
+  but the web (`http:`, `https:`), the page (`#…`) or a file beside it, every picture is a data
+  URL of the report's own, and the page's script ran (the filter filters).
 
     python3 scripts/ci/browser_check.py --page DIR/report.html --run RUN.jsonl \
         --screenshot target/ci-artifacts/report-html.png
+    python3 scripts/ci/browser_check.py --page DIR/report.html --rows 45 --hostile
 
 Exits 0 when every check holds, 1 naming the first that does not, 2 when the browser cannot be
 started or does not answer in time (`--timeout`); the browser is always ended.
@@ -143,7 +149,60 @@ def failures_in_summary(run: pathlib.Path) -> int:
     raise CheckFailed(f"{run}: no summary record")
 
 
-def check(browser: Browser, page: pathlib.Path, failures: int, screenshot, expect_trace: bool) -> None:
+# Run in the page: what of the page is not its own (each a string naming it), for --hostile.
+FOREIGN = r"""(() => {
+  const found = [];
+  if (!/^wogan report: \d+ run\(s\), \d+ failing road\(s\)$/.test(document.title))
+    found.push("the title is " + JSON.stringify(document.title));
+  for (const element of document.querySelectorAll("*"))
+    for (const attribute of element.attributes)
+      if (attribute.name.toLowerCase().startsWith("on"))
+        found.push(element.tagName.toLowerCase() + " has " + attribute.name + "=" + JSON.stringify(attribute.value));
+  const scripts = Array.from(document.scripts);
+  const own = scripts.length === 3 && scripts.every((s) => !s.hasAttribute("src"))
+    && scripts[0].parentNode === document.head && scripts[1].id === "road-data"
+    && scripts[1].type === "application/json" && scripts[2].parentNode === document.body
+    && scripts[2] === document.body.lastElementChild;
+  if (!own) found.push("scripts beyond the page's own: " + scripts.map((s) => s.outerHTML.slice(0, 80)).join(" | "));
+  for (const tag of ["iframe", "frame", "object", "embed", "base", "link", "meta[http-equiv]", "form[action]", "svg script"])
+    for (const element of document.querySelectorAll(tag)) found.push("a " + tag + ": " + element.outerHTML.slice(0, 80));
+  for (const link of document.querySelectorAll("[href]")) {
+    const href = link.getAttribute("href");
+    const scheme = /^[\u0000-\u0020]*([a-zA-Z][a-zA-Z0-9+.-]*):/.exec(href.replace(/[\t\n\r]/g, ""));
+    if (scheme && !/^https?$/i.test(scheme[1])) found.push("a link to " + JSON.stringify(href));
+  }
+  for (const image of document.querySelectorAll("img, image, source, video, audio, input[type=image]")) {
+    const src = image.getAttribute("src") || image.getAttribute("href") || "";
+    if (!(image.tagName === "IMG" && image.classList.contains("picture")
+          && /^data:image\/(svg\+xml|png);base64,[A-Za-z0-9+\/=]+$/.test(src)))
+      found.push("a picture not the report's own: " + image.outerHTML.slice(0, 80));
+  }
+  return found;
+})()"""
+
+
+def check_hostile(evaluate, rows: int) -> None:
+    """The page shows what files said as text (see --hostile), and its own script runs."""
+    foreign = evaluate(FOREIGN)
+    if foreign:
+        raise CheckFailed("what a file said became part of the page: " + "; ".join(foreign[:10]))
+    print("browser_check: the title is the page's own; no on* attribute, no script but the page's, "
+          "no link but to the web, the page or beside it, no picture but the report's own")
+    counted = evaluate("""(() => { const text = document.getElementById('filter-text');
+        const count = () => document.getElementById('filter-count').textContent;
+        const before = count();
+        text.value = 'no such road zz'; text.dispatchEvent(new Event('input'));
+        const none = count();
+        text.value = ''; text.dispatchEvent(new Event('input'));
+        return [before, none, count()]; })()""")
+    if not counted[0] or not counted[1].startswith("0 shown of 0 matching") or counted[2] != counted[0] \
+            or f"({rows} failing roads)" not in counted[0]:
+        raise CheckFailed(f"the page's script does not filter the rows: {counted}")
+    print("browser_check: the page's script runs: the filter filters")
+
+
+def check(browser: Browser, page: pathlib.Path, failures: int, screenshot, expect_trace: bool,
+          hostile: bool = False) -> None:
     target = next(t for t in browser.send("Target.getTargets")["targetInfos"] if t["type"] == "page")
     session = browser.send("Target.attachToTarget", {"targetId": target["targetId"], "flatten": True})["sessionId"]
     for domain in ("Page", "Runtime", "Log", "Network"):
@@ -177,6 +236,8 @@ def check(browser: Browser, page: pathlib.Path, failures: int, screenshot, expec
     if rows != failures:
         raise CheckFailed(f"the failing roads' table has {rows} rows; the run's summary counts {failures} failures")
     print(f"browser_check: {rows} failing-road rows, as the summary counts")
+    if hostile:
+        check_hostile(evaluate, rows)
     if rows > 1:
         bolp_header = "#failing-roads thead th:nth-child(4)"
         click(bolp_header)
@@ -223,6 +284,8 @@ def check(browser: Browser, page: pathlib.Path, failures: int, screenshot, expec
             problems.append("console error: " + " ".join(str(a.get("value", a.get("description"))) for a in params.get("args", [])))
         elif method == "Log.entryAdded" and params.get("entry", {}).get("level") == "error":
             problems.append(f"browser log: {params['entry'].get('text')}")
+        elif method == "Page.javascriptDialogOpening":
+            problems.append(f"a dialog opened: {params.get('message')}")
         elif method == "Network.requestWillBeSent":
             requested = params.get("request", {}).get("url", "")
             if requested.split("#")[0] != url and not requested.startswith("data:"):
@@ -237,21 +300,25 @@ def check(browser: Browser, page: pathlib.Path, failures: int, screenshot, expec
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--page", type=pathlib.Path, required=True, help="the report.html to open")
-    parser.add_argument("--run", type=pathlib.Path, required=True, help="the run file it reports (its summary's failures)")
+    rows = parser.add_mutually_exclusive_group(required=True)
+    rows.add_argument("--run", type=pathlib.Path, help="the run file it reports (its summary's failures)")
+    rows.add_argument("--rows", type=int, help="the failing roads the page must show (instead of --run)")
     parser.add_argument("--screenshot", type=pathlib.Path, help="write a PNG of the failing roads with a detail open")
     parser.add_argument("--browser", default=shutil.which("chromium") or "chromium", help="the browser [chromium on PATH]")
     parser.add_argument("--expect-trace", action="store_true",
                         help="the worst road was driven again (--traces): its detail must show the car's path")
+    parser.add_argument("--hostile", action="store_true",
+                        help="the runs carry HTML, links and pictures: check that all of it stayed text")
     parser.add_argument("--timeout", type=float, default=90.0, help="seconds the whole check may take")
     options = parser.parse_args()
     try:
-        failures = failures_in_summary(options.run)
+        failures = options.rows if options.run is None else failures_in_summary(options.run)
         browser = Browser(options.browser, time.monotonic() + options.timeout)
     except (OSError, CheckFailed) as error:
         print(f"browser_check: {error}", file=sys.stderr)
         return 2
     try:
-        check(browser, options.page, failures, options.screenshot, options.expect_trace)
+        check(browser, options.page, failures, options.screenshot, options.expect_trace, options.hostile)
     except CheckFailed as error:
         print(f"browser_check: FAILED: {error}", file=sys.stderr)
         return 1

@@ -116,19 +116,63 @@ class SimulateChild(LineChild):
 
 
 class ExecutorChild(LineChild):
-    """One executor speaking wogan's executor protocol, version 2 (docs/reference.md), that
+    """One executor speaking wogan's executor protocol, version 3 (docs/reference.md), that
     answers with the pipeline's `execution_data` (examples/metadrive/executor.py
-    `--execution-data`): hello once, then one road, one answer naming it by `id`. It is charged
-    as wogan charges an executor: the answer's `sim_time_s`."""
+    `--execution-data`): hello once, answered by one `hello` line once the executor is ready
+    (read here, before the budget clock starts: its start-up is charged to no budget, as BeamNG's
+    start is not), then one road, one answer naming it by `id`. It is charged as wogan charges an
+    executor: the answer's `sim_time_s`. `description` is the reply's `executor` object (`name`,
+    `version`, `settings`, each optional; {} when it gives none)."""
 
     echo = "id"
     who = "the executor"
+    protocol_version = 3
 
     def __init__(self, command, oob_tolerance, speed_limit, map_size):
         super().__init__(command)
-        self.send({"type": "hello", "protocol": "wogan-executor", "version": 2,
-                   "units": "metres, seconds", "map_size_m": float(map_size),
-                   "oob_tolerance": float(oob_tolerance), "speed_limit_kmh": float(speed_limit)})
+        try:
+            self.send({"type": "hello", "protocol": "wogan-executor", "version": self.protocol_version,
+                       "units": "metres, seconds", "map_size_m": float(map_size),
+                       "oob_tolerance": float(oob_tolerance), "speed_limit_kmh": float(speed_limit)})
+            line = self.process.stdout.readline()
+        except (BrokenPipeError, ValueError):
+            line = ""
+        try:
+            self.description = self.reply_of(line)
+        except SimulateError:
+            self.process.kill()
+            self.process.wait()
+            self.process.stdout.close()
+            raise
+        log.info("executor %s", json.dumps(self.description))
+
+    def reply_of(self, line):
+        """The `executor` object of a reply to hello, or SimulateError naming what came instead."""
+        if not line:
+            try:  # its output closed: it ends, or has ended
+                self.process.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                pass
+            raise SimulateError(f"{self.who} ended (or closed its output) before answering hello "
+                                f"(exit status {self.process.returncode})")
+        try:
+            reply = json.loads(line)
+        except ValueError:
+            reply = None
+        expected = (f"a reply to hello (type hello, protocol wogan-executor, version {self.protocol_version}): "
+                    "an executor of an older protocol version answers no hello")
+        if (not isinstance(reply, dict) or reply.get("type") != "hello"
+                or reply.get("protocol") != "wogan-executor" or reply.get("version") != self.protocol_version):
+            raise SimulateError(f"{self.who} answered hello with {line[:200]!r}, not {expected}")
+        description = reply.get("executor") or {}
+        if not isinstance(description, dict):
+            raise SimulateError(f"{self.who}'s reply to hello: executor: not an object: {line[:200]!r}")
+        for field, kind, what in (("name", str, "text"), ("version", str, "text"),
+                                  ("settings", dict, "an object")):
+            if description.get(field) is not None and not isinstance(description[field], kind):
+                raise SimulateError(f"{self.who}'s reply to hello: executor.{field}: not {what}: "
+                                    f"{line[:200]!r}")
+        return description
 
     def drive(self, road_points):
         """The answer to one road (a dict with outcome, reason, max_bolp, sim_time_s,

@@ -30,8 +30,25 @@ pub(super) fn pinned_cases() -> Vec<Case> {
         case.note(format!("config.json: {config}"));
         case
     };
+    let mut huge_timeout = Case::new(
+        "pinned: run --executor-timeout 18446744073709551615s (panicked: overflow adding to an instant)"
+            .into(),
+        Target::Run,
+    );
+    for arg in [
+        "--executor",
+        "cmd:true",
+        "--executor-timeout",
+        "18446744073709551615s",
+        "--max-tests",
+        "3",
+        "--quiet",
+    ] {
+        huge_timeout.arg(arg);
+    }
     vec![
         near_duplicates,
+        huge_timeout,
         config_case(
             "pinned: run --config with sim.physics_hz 1e9 (hung)",
             r#"{"sim":{"physics_hz":1e9}}"#,

@@ -10,7 +10,8 @@ names another step), `flood` (two replies), `late-second` (a second reply to it 
 the next step has been read), `end-second` (its drive's last step replied to again when the drive
 ends; STEP is not used). Every reply names its step. MODE `always-crash` exits at the first step
 of every drive; MODE `slow-start` starts slower than a step's deadline (it waits 1.5 s before
-reading `hello`) and then drives well. Standard library only.
+reading `hello`) and then drives well; MODE `bad-stderr` writes a stderr line that is not UTF-8
+first and a log line to stderr at every step, and drives well. Standard library only.
 """
 import json
 import sys
@@ -19,6 +20,9 @@ import time
 mode, bad_road, bad_step = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 if mode == "slow-start":
     time.sleep(1.5)
+if mode == "bad-stderr":
+    sys.stderr.buffer.write(b"\xff\xfe not text\n")
+    sys.stderr.flush()
 hello = json.loads(sys.stdin.readline())
 assert hello["type"] == "hello" and hello["protocol"] == "wogan-controller", hello
 assert hello["version"] == 2, hello
@@ -37,6 +41,8 @@ for line in sys.stdin:
         continue
     step += 1
     assert message["step"] == step, message
+    if mode == "bad-stderr":
+        print(f"step {step}", file=sys.stderr, flush=True)
     if late is not None:
         print(json.dumps(late), flush=True)
         late = None

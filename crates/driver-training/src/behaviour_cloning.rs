@@ -254,33 +254,66 @@ pub enum CloningProgress {
     },
 }
 
-/// Random valid roads from the paper's sampler: the first curvature value uniform in
-/// `[-max_curvature_per_m, max_curvature_per_m]`, each next one a uniform step of at most 0.05/m
-/// from it, clipped to that range.
+/// Random valid roads from the paper's sampler on the competition's 200 m map: the first
+/// curvature value uniform in `[-max_curvature_per_m, max_curvature_per_m]`, each next one a
+/// uniform step of at most 0.05/m from it, clipped to that range.
 pub fn random_valid_roads(
     count: usize,
     curvature_points: usize,
     max_curvature_per_m: f64,
     rng: &mut ChaCha20Rng,
 ) -> Vec<Road> {
-    let validator = Validator::default();
-    let roads = CurvatureRoad::default();
-    let step = 0.05;
-    let mut found = Vec::with_capacity(count);
-    while found.len() < count {
-        let mut curvature = Vec::with_capacity(curvature_points);
-        let bound = max_curvature_per_m;
-        let mut value: f64 = rng.random_range(-bound..=bound);
-        for _ in 0..curvature_points {
-            curvature.push(value);
-            value = (value + rng.random_range(-step..=step)).clamp(-bound, bound);
-        }
-        let verdict = validator.validate(&roads.points(&curvature));
-        if let (None, Some(road)) = (verdict.reason, verdict.road) {
-            found.push(road);
+    let sampler = RandomRoads::new(curvature_points, max_curvature_per_m, 200.0);
+    // On the 200 m map nearly every second draw is valid: the tries never run out.
+    (0..count).filter_map(|_| sampler.draw(rng)).collect()
+}
+
+/// The paper's sampler of random roads on a map of a given size, with a bounded number of draws
+/// per road: on a map too small for its roads it says so instead of drawing forever.
+#[derive(Debug, Clone)]
+pub struct RandomRoads {
+    curvature_points: usize,
+    max_curvature_per_m: f64,
+    roads: CurvatureRoad,
+    validator: Validator,
+}
+
+/// Draws per road before [`RandomRoads::draw`] gives up.
+pub const MAX_DRAWS_PER_ROAD: usize = 100_000;
+
+impl RandomRoads {
+    /// Roads of `curvature_points` values of at most `max_curvature_per_m`, on a map of side
+    /// `map_size_m`, starting as the search's roads do.
+    pub fn new(curvature_points: usize, max_curvature_per_m: f64, map_size_m: f64) -> Self {
+        Self {
+            curvature_points,
+            max_curvature_per_m,
+            roads: CurvatureRoad {
+                map_size_m,
+                ..CurvatureRoad::default()
+            },
+            validator: Validator::new(map_size_m),
         }
     }
-    found
+
+    /// A random valid road, or `None` after [`MAX_DRAWS_PER_ROAD`] invalid draws.
+    pub fn draw(&self, rng: &mut ChaCha20Rng) -> Option<Road> {
+        let step = 0.05;
+        let bound = self.max_curvature_per_m;
+        for _ in 0..MAX_DRAWS_PER_ROAD {
+            let mut curvature = Vec::with_capacity(self.curvature_points);
+            let mut value: f64 = rng.random_range(-bound..=bound);
+            for _ in 0..self.curvature_points {
+                curvature.push(value);
+                value = (value + rng.random_range(-step..=step)).clamp(-bound, bound);
+            }
+            let verdict = self.validator.validate(&self.roads.points(&curvature));
+            if let (None, Some(road)) = (verdict.reason, verdict.road) {
+                return Some(road);
+            }
+        }
+        None
+    }
 }
 
 /// The teacher at the wheel, perturbed, with the camera recording its corrective steering.

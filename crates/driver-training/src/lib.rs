@@ -7,6 +7,6 @@ pub mod dave2_model;
 
 pub use behaviour_cloning::{
     random_valid_roads, train, CloningConfig, CloningProgress, CloningReport, Diverged,
-    BUILT_IN_STUDENT_TEACHER,
+    RandomRoads, BUILT_IN_STUDENT_TEACHER, MAX_DRAWS_PER_ROAD,
 };
 pub use dave2_model::{predict_burn, Dave2, Dave2Trainer};

@@ -49,7 +49,7 @@ pub fn all_within(prefix: &str, values: &[(&str, f64, f64, f64)]) -> Result<(), 
     {
         Some((name, value, min, max)) => Err(SettingsError::new(
             format!("{prefix}{name}"),
-            format!("from {min} to {max} (got {value})"),
+            format!("from {min} to {max} (got {})", shown(*value)),
         )),
         None => Ok(()),
     }
@@ -65,6 +65,15 @@ fn each(
     match values.iter().find(|(_, value)| !holds(*value)) {
         Some((name, _)) => Err(SettingsError::new(format!("{prefix}{name}"), requirement)),
         None => Ok(()),
+    }
+}
+
+/// `value` short enough for a message: 1e308 as `1e308`, not its 309 digits.
+pub fn shown(value: f64) -> String {
+    if value.is_finite() && value != 0.0 && !(1e-4..1e6).contains(&value.abs()) {
+        format!("{value:e}")
+    } else {
+        value.to_string()
     }
 }
 
@@ -97,5 +106,14 @@ mod tests {
             "car.b must be positive"
         );
         assert!(non_negative(0.0) && !non_negative(-1e-9) && !non_negative(f64::INFINITY));
+        assert_eq!(
+            all_within("", &[("a", 1e308, 0.0, 1.0)])
+                .unwrap_err()
+                .to_string(),
+            "a must be from 0 to 1 (got 1e308)"
+        );
+        assert_eq!(shown(0.0), "0");
+        assert_eq!(shown(-60.0), "-60");
+        assert_eq!(shown(1e9), "1e9");
     }
 }

@@ -8,9 +8,8 @@ use crate::report;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::io::Write;
-use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
 
 /// Options of `wogan report`.
 #[derive(Debug, Args)]
@@ -47,7 +46,7 @@ pub struct ReportArgs {
     /// With --html: drive the N failing roads of highest BOLP again, with the driver and settings
     /// their run recorded (built-in drivers only), so that their detail shows the car's path and
     /// its BOLP along the drive.
-    #[arg(long, value_name = "N", default_value_t = 0, requires = "html", value_parser = clap::value_parser!(u32).range(0..=10_000))]
+    #[arg(long, value_name = "N", default_value_t = 0, requires = "html", conflicts_with = "table", value_parser = clap::value_parser!(u32).range(0..=10_000))]
     pub traces: u32,
 }
 
@@ -60,41 +59,60 @@ pub fn run(args: &ReportArgs) -> Result<Status> {
     if args.trace.is_none() && runs.is_empty() {
         bail!("give RUN files or folders to report on (or --from FILE), or --trace FILE");
     }
-    let problems = match (&args.out, &args.trace) {
-        (None, _) => {
-            let (tables, problems) = report::runs_tables(&runs, &args.vs)?;
+    if let Some(out) = &args.out {
+        if out.exists() && !out.is_dir() {
+            bail!(
+                "--out {}: is a file, not a folder (the report writes report.md and its pictures \
+                 into a folder)",
+                out.display()
+            );
+        }
+    }
+    if let Some(trace) = &args.trace {
+        // clap requires --out without --table, which --trace excludes.
+        let out = args.out.as_ref().context("--trace needs --out DIR")?;
+        create_out(out)?;
+        report::trace_picture(trace, out)?;
+        return Ok(Status::AllRead);
+    }
+    // Ctrl-C and SIGTERM are answered at any point: reading and measuring stop (nothing is
+    // written), drives again (`--traces`) end and the page is written with those that ended;
+    // the exit status is then 130.
+    let stop = stop_flag()?;
+    let reported = match &args.out {
+        None => report::runs_tables(&runs, &args.vs).and_then(|(tables, problems)| {
             let mut stdout = std::io::stdout().lock();
             stdout.write_all(tables.as_bytes())?;
             stdout.flush()?;
-            problems
-        }
-        (Some(out), trace) => {
-            std::fs::create_dir_all(out)
-                .with_context(|| format!("cannot create {}", out.display()))?;
-            match trace {
-                Some(trace) => report::trace_picture(trace, out)?,
-                None => {
-                    // Ctrl-C is caught only when roads are driven again: those drives end
-                    // (ERROR, interrupted) and the page is written with what was done.
-                    let stop = if args.traces > 0 {
-                        stop_flag()?
-                    } else {
-                        Arc::new(AtomicBool::new(false))
-                    };
-                    let html = args.html.then_some((
-                        report::HtmlReport {
-                            traces: args.traces as usize,
-                        },
-                        &*stop,
-                    ));
-                    report::runs_report(&runs, &args.vs, out, html)?
-                }
-            }
-        }
+            Ok(problems)
+        }),
+        Some(out) => create_out(out).and_then(|()| {
+            let html = args.html.then_some((
+                report::HtmlReport {
+                    traces: args.traces as usize,
+                },
+                &*stop,
+            ));
+            report::runs_report(&runs, &args.vs, out, html)
+        }),
     };
-    Ok(if problems == 0 {
+    if stop.load(Ordering::SeqCst) {
+        let done = if reported.is_ok() {
+            "the report was written without the drives that did not end"
+        } else {
+            "nothing was written"
+        };
+        eprintln!("wogan report: interrupted; {done}");
+        return Ok(Status::Interrupted);
+    }
+    Ok(if reported? == 0 {
         Status::AllRead
     } else {
         Status::SomeLinesBad
     })
+}
+
+/// Creates the report's folder `out` when missing.
+fn create_out(out: &Path) -> Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))
 }

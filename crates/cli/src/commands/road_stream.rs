@@ -14,6 +14,7 @@ use crate::files::json_lines::{json_values, InputLine, JsonLinesWriter};
 use crate::files::records::{ErrorRecord, Record};
 use crate::files::road_input::road_reader;
 use crate::jobs::{Ended, Jobs, Next};
+use crate::sut::executor_protocol;
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use road_sim::road::input::{InputError, RoadInput};
@@ -46,13 +47,15 @@ pub enum Answer {
 
 /// Answers every road of `input` with `answer(source, road)`, `jobs` at a time; a line that
 /// holds no road gets an `error` record and makes the status [`Status::SomeLinesBad`]. Ends early,
-/// with [`Status::Interrupted`], once `stop` is set.
+/// with [`Status::Interrupted`], once `stop` is set. The executor protocol's `hello` is answered
+/// with `hello_reply` when there is one (`simulate` serving as an executor), else passed over.
 pub fn answer_each_road<F>(
     input: Box<dyn BufRead + Send>,
     out: &mut JsonLinesWriter,
     map_size_m: f64,
     jobs: usize,
     stop: &AtomicBool,
+    hello_reply: Option<Record>,
     answer: F,
 ) -> Result<Status>
 where
@@ -87,6 +90,9 @@ where
             Ok(value) => value,
             Err(error) => return Some(Err(InputError::NotJson(error.to_string()).to_string())),
         };
+        if let Some(reply) = hello_reply.as_ref().filter(|_| is_executor_hello(&value)) {
+            return Some(Ok(Answer::Record(Box::new(reply.clone()))));
+        }
         match reader.read_value(&value) {
             Ok(RoadInput::Skip) => None,
             Ok(road) => {
@@ -122,6 +128,12 @@ where
         Ended::Stopped => Status::Interrupted,
         Ended::AllAnswered => status,
     })
+}
+
+/// Whether `value` is the executor protocol's `hello`.
+fn is_executor_hello(value: &Value) -> bool {
+    value.get("type").and_then(Value::as_str) == Some("hello")
+        && value.get("protocol").and_then(Value::as_str) == Some(executor_protocol::PROTOCOL)
 }
 
 /// Reads `input` on its own thread, joining a JSON value spread over several lines, at most

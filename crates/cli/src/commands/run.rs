@@ -125,6 +125,14 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
         None => search(&sut, plan, stop, &mut on_event),
     };
     let gave_up = streak.gave_up();
+    let described = executor
+        .as_ref()
+        .and_then(ExecutorSut::description)
+        .and_then(|(description, roads_at_once)| {
+            let mut described = serde_json::to_value(description).ok()?;
+            described["roads_at_once"] = roads_at_once.into();
+            Some(described)
+        });
     // The executors end (and are reaped) before the summary is written.
     drop(executor);
     progress.finish();
@@ -151,6 +159,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
         diversity_pairs: diversity.pairs.to_owned(),
         interrupted: summary.stopped_by_signal,
         error: error.clone(),
+        executor: described,
     }))?;
     if let Some(path) = &plan.junit {
         write_junit(path, plan, &driven)?;

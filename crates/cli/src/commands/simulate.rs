@@ -3,10 +3,11 @@
 use super::road_stream::{answer_each_road, Answer};
 use super::Status;
 use crate::files::json_lines::{open_input, JsonLinesWriter};
-use crate::files::records::{InvalidOutcome, Record, ResultRecord, TraceRecord};
+use crate::files::records::{HelloRecord, InvalidOutcome, Record, ResultRecord, TraceRecord};
 use crate::files::sbst_format::execution_data;
 use crate::interrupt::stop_flag;
 use crate::options::driver_options::DriverOptions;
+use crate::sut::executor_protocol;
 use anyhow::{Context, Result};
 use clap::Args;
 use road_sim::{simulate, Reason, Road, Sample, StopReason, Validator};
@@ -53,12 +54,27 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
         .resolve_for_driving(args.config.as_deref(), "simulate")?;
     let max_steering_deg = config.vehicle.max_steering_rad.to_degrees();
     let sampled = args.trace.is_some() || args.execution_data;
+    // Serving as an executor (`wogan run --executor cmd:"wogan simulate"`), it says what it is.
+    let hello_reply = Record::Hello(HelloRecord {
+        protocol: executor_protocol::PROTOCOL.to_owned(),
+        version: executor_protocol::VERSION,
+        executor: serde_json::json!({
+            "name": "wogan simulate",
+            "version": env!("CARGO_PKG_VERSION"),
+            "settings": {
+                "oracle": args.driver.kind().name(),
+                "speed_limit_kmh": config.speed_limit_kmh,
+                "oob_tolerance": config.oob_tolerance,
+            },
+        }),
+    });
     answer_each_road(
         input,
         &mut out,
         args.driver.map_size,
         args.jobs as usize,
         &stop,
+        Some(hello_reply),
         |source, road| {
             let line = source.line;
             let verdict = validator.validate(road.points().unwrap_or_default());

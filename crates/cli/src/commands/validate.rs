@@ -31,19 +31,27 @@ pub fn run(args: &ValidateArgs) -> Result<Status> {
     let input = open_input(args.file.as_deref())?;
     let mut out = JsonLinesWriter::create(None)?;
     let validator = Validator::new(args.map_size);
-    answer_each_road(input, &mut out, args.map_size, 1, &stop, |source, road| {
-        let verdict = validator.validate(road.points().unwrap_or_default());
-        Answer::Record(Box::new(Record::Verdict(VerdictRecord {
-            line: source.line,
-            id: source.id.clone(),
-            valid: verdict.is_valid(),
-            reason: verdict.reason,
-            message: verdict.message().to_owned(),
-            interpolated_points: if args.details {
-                verdict.road.map(|r| r.interpolated)
-            } else {
-                None
-            },
-        })))
-    })
+    answer_each_road(
+        input,
+        &mut out,
+        args.map_size,
+        1,
+        &stop,
+        None,
+        |source, road| {
+            let verdict = validator.validate(road.points().unwrap_or_default());
+            Answer::Record(Box::new(Record::Verdict(VerdictRecord {
+                line: source.line,
+                id: source.id.clone(),
+                valid: verdict.is_valid(),
+                reason: verdict.reason,
+                message: verdict.message().to_owned(),
+                interpolated_points: if args.details {
+                    verdict.road.map(|r| r.interpolated)
+                } else {
+                    None
+                },
+            })))
+        },
+    )
 }

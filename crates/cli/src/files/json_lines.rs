@@ -6,7 +6,7 @@ use crate::files::records::{Header, Record};
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use std::fs::File;
-use std::io::{self, BufRead, BufReader, Write};
+use std::io::{self, BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
 
 /// Opens `path` for reading line by line; `None` or `-` is standard input.
@@ -23,6 +23,10 @@ pub fn open_input(path: Option<&Path>) -> Result<Box<dyn BufRead + Send>> {
     }
 }
 
+/// Longest input line read, bytes: a longer one is refused with its number, and read past
+/// without being held (a road of the validator's 500 points takes about 20 KB).
+pub const MAX_LINE_BYTES: usize = 16 << 20;
+
 /// One non-blank input line with its 1-based number, or why it could not be read.
 pub struct InputLine {
     /// Line number, counting from 1 (blank lines count).
@@ -31,19 +35,41 @@ pub struct InputLine {
     pub text: Result<String, String>,
 }
 
-/// Iterates over the non-blank lines of `input`, numbering every line.
+/// Iterates over the non-blank lines of `input`, numbering every line. A line longer than
+/// [`MAX_LINE_BYTES`] is given as an error and ends the input (memory and time are bounded
+/// whatever its length: `/dev/zero` has no line end); a UTF-8 byte order mark before the first
+/// line is dropped.
 pub fn numbered_lines(
     mut input: Box<dyn BufRead + Send>,
 ) -> impl Iterator<Item = io::Result<InputLine>> {
     let mut number = 0;
     let mut buffer = Vec::new();
+    let mut ended = false;
     std::iter::from_fn(move || loop {
+        if ended {
+            return None;
+        }
         buffer.clear();
-        match input.read_until(b'\n', &mut buffer) {
+        let read = (&mut input)
+            .take(MAX_LINE_BYTES as u64 + 1)
+            .read_until(b'\n', &mut buffer);
+        match read {
             Ok(0) => return None,
             Ok(_) => {
                 number += 1;
-                let text = match std::str::from_utf8(&buffer) {
+                if buffer.len() > MAX_LINE_BYTES && buffer.last() != Some(&b'\n') {
+                    ended = true;
+                    let text = Err(format!(
+                        "the line is longer than {} MiB; the input is not read further",
+                        MAX_LINE_BYTES >> 20
+                    ));
+                    return Some(Ok(InputLine { number, text }));
+                }
+                let bytes = match buffer.strip_prefix(b"\xef\xbb\xbf") {
+                    Some(rest) if number == 1 => rest,
+                    _ => &buffer[..],
+                };
+                let text = match std::str::from_utf8(bytes) {
                     Ok(text) if text.trim().is_empty() => continue,
                     Ok(text) => Ok(text.trim_end().to_owned()),
                     Err(e) => Err(format!("not UTF-8 text: {e}")),
@@ -191,5 +217,39 @@ mod tests {
             lines("{\"road_points\": [[1, 2]\n[[5, 6], [7, 8]]\n").len(),
             2
         );
+    }
+
+    #[test]
+    fn a_line_longer_than_the_bound_is_refused_by_number_and_ends_the_input() {
+        let mut text = b"[[1, 2]]\n".to_vec();
+        text.extend_from_slice(&vec![b'0'; MAX_LINE_BYTES + 10]);
+        text.extend_from_slice(b"\n[[3, 4]]\n");
+        let input: Box<dyn BufRead + Send> = Box::new(std::io::Cursor::new(text));
+        let read: Vec<(usize, Result<String, String>)> = numbered_lines(input)
+            .map(|line| line.map(|l| (l.number, l.text)).unwrap())
+            .collect();
+        assert_eq!(read.len(), 2);
+        assert_eq!(read[0], (1, Ok("[[1, 2]]".to_owned())));
+        assert_eq!(read[1].0, 2);
+        assert!(read[1]
+            .1
+            .as_ref()
+            .unwrap_err()
+            .contains("longer than 16 MiB"));
+        // A line that never ends is refused after the bound, not read for ever.
+        let zeros: Box<dyn BufRead + Send> = Box::new(BufReader::new(std::io::repeat(0)));
+        let read: Vec<InputLine> = numbered_lines(zeros).map(|l| l.unwrap()).collect();
+        assert_eq!(read.len(), 1);
+        assert!(read[0].text.is_err());
+        // A line of exactly the bound is read.
+        let mut exact = vec![b' '; MAX_LINE_BYTES - 1];
+        exact[0] = b'1';
+        let input: Box<dyn BufRead + Send> = Box::new(std::io::Cursor::new(exact));
+        assert!(numbered_lines(input).next().unwrap().unwrap().text.is_ok());
+    }
+
+    #[test]
+    fn a_byte_order_mark_before_the_first_line_is_dropped() {
+        assert_eq!(lines("\u{feff}[[1, 2]]\n"), [(1, "[[1, 2]]".to_owned())]);
     }
 }

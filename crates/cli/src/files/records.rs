@@ -52,9 +52,23 @@ pub enum Record<C = serde_json::Value> {
     Replay(ReplayRecord),
     /// A road `sample` drew from a saved generator.
     Sample(SampleRecord),
+    /// `simulate`'s reply to the executor protocol's `hello`, when it serves as an executor.
+    Hello(HelloRecord),
     /// A record of a kind this version does not know (skipped by readers).
     #[serde(other, skip_serializing)]
     Unknown,
+}
+
+/// An executor's reply to the executor protocol's `hello`
+/// ([`crate::sut::executor_protocol`]): the protocol it speaks, and what it is.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct HelloRecord {
+    /// The protocol's name.
+    pub protocol: String,
+    /// The protocol's version.
+    pub version: u32,
+    /// What the executor is: `name`, `version`, `settings`.
+    pub executor: serde_json::Value,
 }
 
 /// What a run is: everything that determines its results.
@@ -222,6 +236,10 @@ pub struct SummaryRecord {
     /// Why the search failed part-way, if it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// What the executor said of itself in its reply to `hello` (`name`, `version`,
+    /// `settings`), when an executor drove the roads.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub executor: Option<serde_json::Value>,
 }
 
 /// An input line that holds no road.

@@ -1,14 +1,21 @@
 //! Reading the JSON lines of one `wogan run` (through [`crate::files::records`]): its header, test
 //! records and (when the run finished) its summary. Bad lines are collected with their file and
-//! line number, never fatal.
+//! line number, never fatal: lines that are not records, and records no run holds (values out of
+//! their ranges, a test id twice, a second header or one after the tests), which are not read.
 
 use crate::files::header_settings::HeaderSettings;
 use crate::files::json_lines::{numbered_lines, open_input};
 pub use crate::files::records::TestRecord;
 use crate::files::records::{Header, Record, SummaryRecord};
-use anyhow::Result;
-use road_sim::{DriverKind, FitnessKind};
+use crate::options::config_file::SettingsSource;
+use crate::options::driver_options::{checked_settings, DriverInputs};
+use anyhow::{bail, Result};
+use road_sim::setting_checks::shown;
+use road_sim::sim::MAX_SIM_TIME_S;
+use road_sim::validator::MAX_MAP_SIZE_M;
+use road_sim::{DriverConfig, DriverKind, FitnessKind, Outcome, SimConfig};
 use serde_json::Value;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// The header's fields the report uses.
@@ -85,7 +92,9 @@ impl RunFile {
     }
 }
 
-/// Reads a run; `Err` only when the file cannot be opened.
+/// Reads a run; `Err` only when the file cannot be opened. A line that cannot be read, or that
+/// says what no run can hold (a value out of its range, a second test of one id, a second header
+/// or one after the tests), is a problem naming it (`path:line`) and is not read.
 pub fn read_run(path: &Path) -> Result<RunFile> {
     let input = open_input(Some(path))?;
     let mut run = RunFile {
@@ -98,6 +107,7 @@ pub fn read_run(path: &Path) -> Result<RunFile> {
         summary: None,
         problems: Vec::new(),
     };
+    let mut read = ReadSoFar::default();
     for line in numbered_lines(input) {
         let line = match line {
             Ok(line) => line,
@@ -108,20 +118,45 @@ pub fn read_run(path: &Path) -> Result<RunFile> {
             }
         };
         let at = format!("{}:{}", path.display(), line.number);
-        match line.text.and_then(|text| read_record(&mut run, &text)) {
+        match line
+            .text
+            .and_then(|text| read_record(&mut run, &mut read, line.number, &text))
+        {
             Ok(()) => {}
             Err(problem) => run.problems.push(format!("{at}: {problem}")),
         }
+        // A report stopped by Ctrl-C reads no further (nothing is reported then).
+        if crate::interrupt::stopped() {
+            break;
+        }
     }
-    if run.header.is_none() {
+    if run.header.is_none() && !read.header_refused {
         run.problems
             .push(format!("{}: no header record", path.display()));
     }
     Ok(run)
 }
 
-/// Adds one line's record to `run`.
-fn read_record(run: &mut RunFile, text: &str) -> Result<(), String> {
+/// What the lines read so far hold that a later line is checked against.
+#[derive(Debug, Default)]
+struct ReadSoFar {
+    /// The line of the header read.
+    header_line: Option<usize>,
+    /// Whether a header line was refused (then the run has none, which that problem says).
+    header_refused: bool,
+    /// The line of a record that comes after the header (test, train, summary), if any.
+    first_record_line: Option<usize>,
+    /// The line of each test id read.
+    test_lines: HashMap<usize, usize>,
+}
+
+/// Adds line `number`'s record to `run`, or says why it is not read.
+fn read_record(
+    run: &mut RunFile,
+    read: &mut ReadSoFar,
+    number: usize,
+    text: &str,
+) -> Result<(), String> {
     let value: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
     let kind = value
         .get("type")
@@ -131,18 +166,184 @@ fn read_record(run: &mut RunFile, text: &str) -> Result<(), String> {
     let record: Record =
         serde_json::from_value(value).map_err(|e| format!("bad {kind} record: {e}"))?;
     match record {
-        Record::Header(header) => run.header = Some(RunHeader::of(&header)),
-        Record::Test(test) if test.beyond_budget => run.beyond_budget.push(test),
-        Record::Test(test) => run.tests.push(test),
-        Record::Train(train) => run.train_ms += train.train_ms,
-        Record::Summary(summary) => run.summary = Some(summary),
+        Record::Header(header) => {
+            let checked = match (read.header_line, read.first_record_line) {
+                (Some(first), _) => Err(format!(
+                    "a second header (the run's is line {first}): not read"
+                )),
+                (None, Some(record)) => Err(format!(
+                    "a header after the run's records (line {record}): a run's header is its \
+                     first record; not read"
+                )),
+                (None, None) => header_problem(&header),
+            };
+            if let Err(problem) = checked {
+                read.header_refused |= read.header_line.is_none();
+                return Err(problem);
+            }
+            read.header_line = Some(number);
+            run.header = Some(RunHeader::of(&header));
+        }
+        Record::Test(test) => {
+            test_problem(&test)?;
+            if let Some(first) = read.test_lines.get(&test.id) {
+                return Err(format!(
+                    "test {} again (first on line {first}): not read",
+                    test.id
+                ));
+            }
+            read.test_lines.insert(test.id, number);
+            read.first_record_line.get_or_insert(number);
+            if test.beyond_budget {
+                run.beyond_budget.push(test);
+            } else {
+                run.tests.push(test);
+            }
+        }
+        Record::Train(train) => {
+            read.first_record_line.get_or_insert(number);
+            run.train_ms += train.train_ms;
+        }
+        Record::Summary(summary) => {
+            read.first_record_line.get_or_insert(number);
+            run.summary = Some(summary);
+        }
         // Records of kinds the report does not use are skipped.
         _ => {}
     }
     Ok(())
 }
 
+/// What is wrong with a header's settings that the report reads, if anything: `config` must be
+/// an object, and the map size, failure threshold and speed limit, when given as numbers, within
+/// the ranges `wogan run` accepts. (Fields of another type read as absent: older layouts.)
+fn header_problem(header: &Header) -> Result<(), String> {
+    let config = &header.config;
+    if !config.is_object() {
+        return Err(format!(
+            "bad header record: config: {}, not an object",
+            json_type(config)
+        ));
+    }
+    let checks = [
+        ("road", "map_size_m", f64::MIN_POSITIVE, MAX_MAP_SIZE_M),
+        ("sim", "oob_tolerance", 0.0, 1.0),
+        ("sim", "speed_limit_kmh", 0.1, 300.0),
+    ];
+    for (section, field, min, max) in checks {
+        let Some(value) = config.get(section).and_then(|s| s.get(field)) else {
+            continue;
+        };
+        if let Some(v) = value.as_f64() {
+            if !(min..=max).contains(&v) {
+                let range = if min == f64::MIN_POSITIVE {
+                    format!("above 0 and at most {max}")
+                } else {
+                    format!("from {min} to {max}")
+                };
+                return Err(format!(
+                    "bad header record: config.{section}.{field} must be {range} (got {})",
+                    shown(v)
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// What is wrong with a test record's values, if anything: a max BOLP in `[0, 1]` (`null` only
+/// for a drive that ended in ERROR) and a simulated time from 0 to the simulator's bound.
+fn test_problem(test: &TestRecord) -> Result<(), String> {
+    let result = &test.execution.result;
+    let bolp = result.max_bolp;
+    if bolp.is_nan() {
+        if result.outcome != Outcome::Error {
+            return Err(format!(
+                "bad test record: max_bolp is null in a {} drive (only an ERROR may lack it)",
+                result.outcome.name()
+            ));
+        }
+    } else if !(0.0..=1.0).contains(&bolp) {
+        return Err(format!(
+            "bad test record: max_bolp must be from 0 to 1 (got {})",
+            shown(bolp)
+        ));
+    }
+    let time = result.sim_time_s;
+    if !time.is_nan() && !(0.0..=MAX_SIM_TIME_S).contains(&time) {
+        return Err(format!(
+            "bad test record: sim_time_s must be from 0 to {MAX_SIM_TIME_S} (got {})",
+            shown(time)
+        ));
+    }
+    Ok(())
+}
+
+/// The JSON type of `value`, as a message names it.
+fn json_type(value: &Value) -> &'static str {
+    match value {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "an array",
+        Value::Object(_) => "an object",
+    }
+}
+
 impl RunHeader {
+    /// Why this run's roads cannot be driven again when it is an executor's run: its drives were
+    /// the executor's, which wogan never starts from a file.
+    pub fn executor_run(&self) -> Option<String> {
+        let command = self.settings.executor.as_ref()?;
+        Some(format!(
+            "its roads were driven by an external executor ({command}), which wogan never starts \
+             from a file; wogan's own simulator would not give that executor's drives"
+        ))
+    }
+
+    /// The simulation settings and the driver to drive this run's tests again: its header's
+    /// `config.sim` and `config.driver` read as every source of settings is read
+    /// ([`checked_settings`]: laid over the driver's defaults, every range checked); `weights`
+    /// are the DAVE-2 weights the run used when not the built-in ones. Refused, saying why, for
+    /// an executor's run (its drives were the executor's, which wogan never starts from a file),
+    /// a driver wogan does not start or load from a file, and a setting out of its range.
+    pub fn drive_settings(&self, weights: Option<&Path>) -> Result<(SimConfig, DriverConfig)> {
+        if let Some(why) = self.executor_run() {
+            bail!("{why}");
+        }
+        if !self.config.is_object() {
+            bail!("the run's header, config: not an object");
+        }
+        // Runs of wogan before `driver` was a section of its own kept the driver's tuning in
+        // `sim.beamng_ai` or `sim.dave2`: read as the driver's section, as a config file's is.
+        let mut sim = self.config.get("sim").cloned();
+        let mut driver = self.config.get("driver").cloned();
+        if let Some(serde_json::Value::Object(fields)) = &mut sim {
+            for (old, kind) in [
+                ("beamng_ai", DriverKind::BeamNgAiProxy),
+                ("dave2", DriverKind::Dave2Proxy),
+            ] {
+                if let Some(section) = fields.remove(old) {
+                    if kind == self.driver && driver.is_none() {
+                        driver = Some(section);
+                    }
+                }
+            }
+        }
+        checked_settings(
+            SettingsSource::RunHeader,
+            self.driver,
+            sim.as_ref(),
+            driver.as_ref(),
+            DriverInputs {
+                weights,
+                ..DriverInputs::default()
+            },
+            |sim| sim,
+        )
+    }
+
     /// The fields of a run's header record.
     pub fn of(header: &Header) -> Self {
         let settings = HeaderSettings::of(&header.config);

@@ -1,6 +1,6 @@
 //! Options that choose and configure the driver under test, shared by `simulate` and `run`.
 
-use crate::options::config_file::{self, ConfigFile};
+use crate::options::config_file::{self, ConfigFile, SettingsSource};
 use crate::options::value_parsers::{map_size_m, oracle, positive_kmh, share, Oracle};
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -8,6 +8,7 @@ use road_sim::driver::{
     BeamNgAiParams, Contract, ControllerConfig, ControllerParams, Dave2DriverParams, OnnxConfig,
     OnnxParams,
 };
+use road_sim::setting_checks::SettingsError;
 use road_sim::vision::Dave2Weights;
 use road_sim::{CompetitionSetup, DriverConfig, DriverKind, SimConfig};
 use std::path::{Path, PathBuf};
@@ -46,29 +47,29 @@ impl DriverOptions {
         self.oracle.kind
     }
 
-    /// The chosen driver with its default tuning, `patch` (a config file's `driver` section)
-    /// laid over it, and the weights of `--driver-weights` if given.
-    pub fn driver_config(&self, patch: Option<&serde_json::Value>) -> Result<DriverConfig> {
-        driver_config(
-            self.kind(),
-            self.oracle.command.as_deref(),
-            self.oracle.model.as_deref(),
-            patch,
-            self.driver_weights.as_deref(),
-            "driver",
-        )
+    /// What only the command line gives the driver: a controller's command, a camera network's
+    /// model, DAVE-2 weights.
+    pub fn inputs(&self) -> DriverInputs<'_> {
+        DriverInputs {
+            command: self.oracle.command.as_deref(),
+            model: self.oracle.model.as_deref(),
+            weights: self.driver_weights.as_deref(),
+        }
     }
 
     /// The simulation settings and the driver these options and `file` ask for: the driver's
     /// competition setup and default tuning, the file's `sim` and `driver` sections laid over them,
-    /// then the command line's options; or names the first setting that cannot be used.
+    /// then the command line's options ([`checked_settings`]); or names the first setting that
+    /// cannot be used.
     pub fn resolve(&self, file: &ConfigFile) -> Result<(SimConfig, DriverConfig)> {
-        let setup = CompetitionSetup::of(self.kind()).sim_config();
-        let sim = self.apply_to(config_file::lay_over(file.sim.as_ref(), setup, "sim")?);
-        sim.validate().context("invalid simulation settings")?;
-        let driver = self.driver_config(file.driver.as_ref())?;
-        driver.validate().context("invalid driver settings")?;
-        Ok((sim, driver))
+        checked_settings(
+            SettingsSource::ConfigFile(file.path.as_deref()),
+            self.kind(),
+            file.sim.as_ref(),
+            file.driver.as_ref(),
+            self.inputs(),
+            |sim| self.apply_to(sim),
+        )
     }
 
     /// The simulation and driver settings of a command that drives roads (`simulate`, `replay`):
@@ -98,28 +99,97 @@ impl DriverOptions {
     }
 }
 
-/// Driver `kind` with its default tuning, `patch` (named `section` in errors) laid over it, and
-/// the DAVE-2 weights of the file `weights` if given (for `dave2-proxy` only). A controller's
-/// `command` and a camera network's `model` come only from the command line: with none (a run
-/// file's header), the driver is refused, naming what the file records, and nothing is started
-/// or loaded.
-pub fn driver_config(
+/// What only the command line gives a driver; a file (a config file, a run's header) never does.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct DriverInputs<'a> {
+    /// A controller's command (`--oracle cmd:"..."`).
+    pub command: Option<&'a str>,
+    /// A camera network's model (`--oracle onnx:FILE`).
+    pub model: Option<&'a Path>,
+    /// DAVE-2 weights (`--driver-weights`), for `dave2-proxy` only.
+    pub weights: Option<&'a Path>,
+}
+
+/// A setting outside its range, named by where it was read and its path there.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{origin}, {setting} must be {requirement}")]
+pub struct SettingOutOfRange {
+    /// Where the setting was read: `config file x.json`, `the run's header`.
+    pub origin: String,
+    /// Its path there: `sim.physics_hz`, `config.driver.control_hz`.
+    pub setting: String,
+    /// What it must be: `from 10 to 1000 (got 0)`.
+    pub requirement: String,
+}
+
+impl SettingOutOfRange {
+    /// `problem` (a setting of section `section`, or of the driver's when its path begins with
+    /// `driver.`) read from `source`.
+    fn of(source: SettingsSource<'_>, section: &str, problem: SettingsError) -> Self {
+        let setting = match problem.setting.strip_prefix("driver.") {
+            Some(field) => format!("{}.{field}", source.section("driver")),
+            None => format!("{}.{}", source.section(section), problem.setting),
+        };
+        Self {
+            origin: source.name(),
+            setting,
+            requirement: problem.requirement,
+        }
+    }
+}
+
+/// The one way simulation and driver settings are read, whatever their source (a `--config` file
+/// with the options over it, a run's header): the driver's competition setup and default tuning,
+/// the source's `sim` and `driver` sections laid over them, `options` applied to the simulation's,
+/// then every range checked ([`SimConfig::validate`], [`DriverConfig::validate`]), so that no
+/// source drives with a setting another would refuse. An error names the source and the field:
+/// "the run's header, config.sim.physics_hz must be from 10 to 1000 (got 0)".
+pub fn checked_settings(
+    source: SettingsSource<'_>,
     kind: DriverKind,
-    command: Option<&str>,
-    model: Option<&Path>,
+    sim: Option<&serde_json::Value>,
+    driver: Option<&serde_json::Value>,
+    inputs: DriverInputs<'_>,
+    options: impl FnOnce(SimConfig) -> SimConfig,
+) -> Result<(SimConfig, DriverConfig)> {
+    let setup = CompetitionSetup::of(kind).sim_config();
+    let origin = source.name();
+    let sim = options(config_file::lay_over_from(
+        &origin,
+        sim,
+        setup,
+        &source.section("sim"),
+    )?);
+    sim.validate()
+        .map_err(|problem| SettingOutOfRange::of(source, "sim", problem))?;
+    let driver = driver_config(source, kind, inputs, driver)?;
+    driver
+        .validate()
+        .map_err(|problem| SettingOutOfRange::of(source, "driver", problem))?;
+    Ok((sim, driver))
+}
+
+/// Driver `kind` with its default tuning, `patch` (the source's `driver` section) laid over it,
+/// and the DAVE-2 weights of the file `inputs.weights` if given (for `dave2-proxy` only). A
+/// controller's command and a camera network's model come only from the command line: with none
+/// (a run file's header), the driver is refused, naming what the file records, and nothing is
+/// started or loaded. Ranges are checked by [`checked_settings`].
+fn driver_config(
+    source: SettingsSource<'_>,
+    kind: DriverKind,
+    inputs: DriverInputs<'_>,
     patch: Option<&serde_json::Value>,
-    weights: Option<&Path>,
-    section: &str,
 ) -> Result<DriverConfig> {
-    let weights = weights.map(read_dave2_weights).transpose()?;
+    let (origin, section) = (source.name(), source.section("driver"));
+    let weights = inputs.weights.map(read_dave2_weights).transpose()?;
     if weights.is_some() && kind != DriverKind::Dave2Proxy {
         bail!("--driver-weights is for dave2-proxy, not {kind}");
     }
     if kind == DriverKind::Onnx {
-        return onnx_config(model, patch, section);
+        return onnx_config(source, inputs.model, patch);
     }
     let Some(mut driver) = DriverConfig::built_in(kind) else {
-        let Some(command) = command else {
+        let Some(command) = inputs.command else {
             let recorded = patch
                 .and_then(|p| p.get("command"))
                 .and_then(|c| c.as_str())
@@ -133,13 +203,14 @@ pub fn driver_config(
         if let Some(serde_json::Value::Object(fields)) = &mut patch {
             // A config file may tune a controller, never name what is run.
             if fields.contains_key("command") {
-                bail!("{section}.command: a controller's command is taken only from --oracle cmd:\"...\"");
+                bail!("{origin}, {section}.command: a controller's command is taken only from --oracle cmd:\"...\"");
             }
         }
-        let params = config_file::lay_over::<ControllerParams>(
+        let params = config_file::lay_over_from::<ControllerParams>(
+            &origin,
             patch.as_ref(),
             ControllerParams::default(),
-            section,
+            &section,
         )?;
         return Ok(DriverConfig::Controller(ControllerConfig::new(
             command.to_owned(),
@@ -148,13 +219,15 @@ pub fn driver_config(
     };
     match &mut driver {
         DriverConfig::BeamNgAiProxy(params) => {
-            *params = config_file::lay_over::<BeamNgAiParams>(patch, *params, section)?;
+            *params =
+                config_file::lay_over_from::<BeamNgAiParams>(&origin, patch, *params, &section)?;
         }
         DriverConfig::Dave2Proxy {
             params,
             weights: built_in,
         } => {
-            *params = config_file::lay_over::<Dave2DriverParams>(patch, *params, section)?;
+            *params =
+                config_file::lay_over_from::<Dave2DriverParams>(&origin, patch, *params, &section)?;
             if let Some(weights) = weights {
                 *built_in = weights;
             }
@@ -167,10 +240,11 @@ pub fn driver_config(
 /// A camera network: the model of `--oracle onnx:FILE`, loaded and checked, with `patch` laid
 /// over the contract's defaults. A file may tune the network, never name the model.
 fn onnx_config(
+    source: SettingsSource<'_>,
     model: Option<&Path>,
     patch: Option<&serde_json::Value>,
-    section: &str,
 ) -> Result<DriverConfig> {
+    let (origin, section) = (source.name(), source.section("driver"));
     let Some(model) = model else {
         let recorded = patch
             .and_then(|p| p.get("model"))
@@ -185,7 +259,7 @@ fn onnx_config(
     if let Some(serde_json::Value::Object(fields)) = &mut patch {
         if fields.contains_key("model") || fields.contains_key("model_sha256") {
             bail!(
-                "{section}.model: a camera network's model is taken only from --oracle onnx:FILE"
+                "{origin}, {section}.model: a camera network's model is taken only from --oracle onnx:FILE"
             );
         }
     }
@@ -195,14 +269,21 @@ fn onnx_config(
         Some(name) => serde_json::from_value::<Contract>(name.clone()).map_err(|_| {
             let known: Vec<&str> = Contract::ALL.iter().map(|c| c.name()).collect();
             anyhow::anyhow!(
-                "config file, {section}.contract: {name} is not a contract; known: {}",
+                "{origin}, {section}.contract: {name} is not a contract; known: {}",
                 known.join(", ")
             )
         })?,
     };
-    let params =
-        config_file::lay_over::<OnnxParams>(patch.as_ref(), OnnxParams::of(contract), section)?;
-    params.validate().context("invalid driver settings")?;
+    let params = config_file::lay_over_from::<OnnxParams>(
+        &origin,
+        patch.as_ref(),
+        OnnxParams::of(contract),
+        &section,
+    )?;
+    // Checked before the model is loaded (the crop rows against the frame, say).
+    params
+        .validate()
+        .map_err(|problem| SettingOutOfRange::of(source, "driver", problem))?;
     let config = OnnxConfig::load(model, params)?;
     Ok(DriverConfig::Onnx(config))
 }

@@ -138,8 +138,9 @@ pub struct RunArgs {
     /// Taken only from this command line, never from a file.
     #[arg(long, value_name = "cmd:COMMAND", value_parser = executor_command)]
     pub executor: Option<String>,
-    /// Longest wait for an executor's answer to one road.
-    #[arg(long, default_value = "10m", value_parser = humantime::parse_duration, requires = "executor")]
+    /// Longest wait for an executor's answer to one road (and for a new one's reply to `hello`),
+    /// from 100ms to 24h.
+    #[arg(long, default_value = "10m", value_parser = crate::options::value_parsers::executor_timeout, requires = "executor")]
     pub executor_timeout: Duration,
     /// Drives a program outside wogan (a controller, an executor) may fail in a row before the
     /// run stops.

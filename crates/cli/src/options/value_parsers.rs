@@ -37,6 +37,23 @@ pub fn budget_duration(text: &str) -> Result<std::time::Duration, String> {
     }
 }
 
+/// Shortest wait for an executor's answer: less is no time to answer in.
+pub const MIN_EXECUTOR_TIMEOUT: std::time::Duration = std::time::Duration::from_millis(100);
+/// Longest wait for an executor's answer to one road: a day, far beyond any real-time drive.
+pub const MAX_EXECUTOR_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(24 * 3600);
+
+/// `--executor-timeout`: a duration (`90s`, `10m`) from [`MIN_EXECUTOR_TIMEOUT`] to
+/// [`MAX_EXECUTOR_TIMEOUT`].
+pub fn executor_timeout(text: &str) -> Result<std::time::Duration, String> {
+    match humantime::parse_duration(text) {
+        Ok(d) if (MIN_EXECUTOR_TIMEOUT..=MAX_EXECUTOR_TIMEOUT).contains(&d) => Ok(d),
+        Ok(_) => Err(format!(
+            "expected a duration from 100ms to 24h, got {text:?}"
+        )),
+        Err(e) => Err(format!("expected a duration (90s, 10m), got {text:?}: {e}")),
+    }
+}
+
 /// A number above 0 and at most `max`.
 fn within(text: &str, unit: &str, max: f64) -> Result<f64, String> {
     match text.parse::<f64>() {
@@ -211,6 +228,26 @@ pub fn contract(name: &str) -> Result<road_sim::driver::Contract, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_executor_timeout_is_a_duration_within_its_range() {
+        use std::time::Duration;
+        assert_eq!(executor_timeout("2s"), Ok(Duration::from_secs(2)));
+        assert_eq!(executor_timeout("24h"), Ok(MAX_EXECUTOR_TIMEOUT));
+        // 0 answers nothing; 2^64 s overflowed a deadline (a panic).
+        for bad in [
+            "0",
+            "0s",
+            "99ms",
+            "25h",
+            "18446744073709551615s",
+            "213503982334601d",
+            "-1s",
+            "abc",
+        ] {
+            assert!(executor_timeout(bad).is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn ranges_are_enforced() {

@@ -5,13 +5,15 @@ use super::stats::{mean, median, sample_sd};
 use crate::files::records::{known, TestRecord};
 use crate::files::run_file::RunFile;
 use crate::sbst::metrics::SbstMeasures;
+use rand::SeedableRng;
+use rand_chacha::ChaCha20Rng;
 use rayon::prelude::*;
 use road_sim::distinct::{distinct, ExitProfile, DELTA_RAD};
 use road_sim::road::diversity_profile::{angle_distance, diversity_profile};
 use road_sim::Road;
 use road_sim::SimResult;
 use std::collections::BTreeSet;
-use wogan_core::diversity::{median_pairwise_distance, median_pairwise_distance_by};
+use wogan_core::diversity::{median_pairwise_distance, median_pairwise_distance_by, SAMPLED_PAIRS};
 use wogan_core::Phase;
 
 /// Width of a MAX_CURV coverage bin, 1/m.
@@ -37,6 +39,9 @@ pub struct RunMeasures {
     /// The paper's diversity: median pairwise distance of the failing roads' diversity profiles
     /// ([`diversity_profile`]); `None` below two failures.
     pub diversity: Option<f64>,
+    /// Whether the diversities were measured on sampled pairs (more than
+    /// [`wogan_core::diversity::EXACT_UP_TO`] failing roads), not on all.
+    pub diversity_sampled: bool,
     /// The paper's diversity with each direction difference taken as the angle between the
     /// directions ([`angle_distance`]), so that roads heading back alike are near; `None` below
     /// two failures.
@@ -45,6 +50,9 @@ pub struct RunMeasures {
     /// [`DELTA_RAD`] apart ([`road_sim::distinct`]); `None` when a failing test's record does not
     /// say where the car left its lane (runs written before wogan recorded it).
     pub distinct_failures: Option<usize>,
+    /// The failing tests the distinct failures were counted over when a sample was
+    /// ([`DISTINCT_EXACT_UP_TO`]); `None` when every one was.
+    pub distinct_sample: Option<usize>,
     /// Failing tests per hour of simulated driving; `None` without simulated time.
     pub failures_per_simulated_hour: Option<f64>,
     /// Median length of the failing roads' centre lines, metres; `None` without a failure.
@@ -73,7 +81,9 @@ pub struct RunMeasures {
 }
 
 impl RunMeasures {
-    /// Measures `run`.
+    /// Measures `run`. The work is bounded whatever the run's size: the pairwise measures
+    /// (diversity, the OOB sparseness, distinct failures) measure a seeded sample of a run's
+    /// failures above their stated sizes, and say so ([`RunMeasures::sampled`]).
     pub fn of(run: &RunFile) -> Self {
         let generation: Vec<f64> = run
             .tests
@@ -87,17 +97,19 @@ impl RunMeasures {
             .filter(|&n| n > 0)
             .map(|n| n as f64)
             .collect();
-        let failing_roads: Vec<Road> = run
+        // Each failing road built once (the spline is the costly part), on every core.
+        let failing: Vec<(&TestRecord, Option<Road>)> = run
             .tests
-            .iter()
+            .par_iter()
             .filter(|t| t.failed())
-            .filter_map(|t| Road::new(&t.execution.road_points).ok())
+            .map(|t| (t, Road::new(&t.execution.road_points).ok()))
             .collect();
+        let failing_roads: Vec<&Road> = failing.iter().filter_map(|(_, r)| r.as_ref()).collect();
         let profiles: Vec<Vec<f64>> = failing_roads
-            .iter()
+            .par_iter()
             .map(|road| diversity_profile(&road.interpolated))
             .collect();
-        let lengths_m: Vec<f64> = failing_roads.iter().map(Road::length_m).collect();
+        let lengths_m: Vec<f64> = failing_roads.iter().map(|r| r.length_m()).collect();
         let seed = run.header.as_ref().and_then(|h| h.seed).unwrap_or(0);
         let failures = run.failures();
         let first_index = run.tests.iter().position(|t| t.failed());
@@ -112,16 +124,20 @@ impl RunMeasures {
             .iter()
             .filter_map(|t| known(t.execution.result.sim_time_s))
             .sum();
+        let distinct = exit_profiles(&failing).map(|profiles| bounded_distinct(&profiles, seed));
+        let diversity = median_pairwise_distance(&profiles, seed);
         Self {
             executed: run.tests.len(),
             failures,
             generation_ms_per_test: mean(&generation),
             simulated_s,
             training_s: run.train_ms / 1000.0,
-            diversity: median_pairwise_distance(&profiles, seed).median_distance,
+            diversity: diversity.median_distance,
+            diversity_sampled: diversity.pairs == "sampled",
             angle_diversity: median_pairwise_distance_by(&profiles, seed, angle_distance)
                 .median_distance,
-            distinct_failures: distinct_failures(&run.tests),
+            distinct_failures: distinct.map(|(count, _)| count),
+            distinct_sample: distinct.and_then(|(_, sample)| sample),
             failures_per_simulated_hour: (simulated_s > 0.0)
                 .then(|| failures as f64 * 3600.0 / simulated_s),
             failing_road_length_m: median(&lengths_m),
@@ -150,23 +166,83 @@ impl RunMeasures {
     pub fn first_failure_or_past_end(&self) -> f64 {
         self.first_failure.unwrap_or(self.executed + 1) as f64
     }
+
+    /// Which of this run's measures were taken on a sample of its failures, as the report says
+    /// so: each a phrase ("the OOB sparseness on 1000 of its 100000 OOBs").
+    pub fn sampled(&self) -> Vec<String> {
+        let mut sampled = Vec::new();
+        if let Some(n) = self.distinct_sample {
+            sampled.push(format!(
+                "distinct failures counted over {n} of its {} failing tests",
+                self.failures
+            ));
+        }
+        let oob = [&self.sbst.oob, &self.sbst.oob_placed];
+        if let Some(summary) = oob.iter().find_map(|s| s.as_ref().ok()) {
+            if let Some(n) = summary.sparseness_sample {
+                sampled.push(format!(
+                    "the OOB sparseness measured on {n} of its {} OOBs",
+                    summary.total
+                ));
+            }
+        }
+        if self.diversity_sampled {
+            sampled.push(format!(
+                "the diversity measured on {SAMPLED_PAIRS} pairs of its {} failing roads",
+                self.failures
+            ));
+        }
+        sampled
+    }
 }
 
-/// The greedy count of distinct failures among `tests`, in test order; `None` when a failing
-/// test does not say where the car left its lane.
-pub fn distinct_failures(tests: &[TestRecord]) -> Option<usize> {
-    let profiles = tests
+/// Up to this many failing tests [`bounded_distinct`] counts every one; above, a seeded sample of
+/// this many, in test order. The greedy count compares each failure with those kept before it, so
+/// its work grows with failures times distinct failures: at most 2 × 10^8 profile distances.
+pub const DISTINCT_EXACT_UP_TO: usize = 20_000;
+
+/// The greedy count of distinct failures among `tests`, in test order, every one counted; `None`
+/// when a failing test does not say where the car left its lane.
+#[cfg(test)]
+fn distinct_failures(tests: &[TestRecord]) -> Option<usize> {
+    let failing: Vec<(&TestRecord, Option<Road>)> = tests
         .iter()
         .filter(|t| t.failed())
-        .map(|t| {
+        .map(|t| (t, Road::new(&t.execution.road_points).ok()))
+        .collect();
+    Some(distinct(&exit_profiles(&failing)?, DELTA_RAD).len())
+}
+
+/// The exit profile of each failing test (with its road, when its points make one); `None`
+/// when one cannot be made.
+fn exit_profiles(failing: &[(&TestRecord, Option<Road>)]) -> Option<Vec<ExitProfile>> {
+    failing
+        .par_iter()
+        .map(|(t, road)| {
             // An executor reports the side of an exit, not its place: no count then.
             let place = t.execution.result.oob?.place()?;
             // A road that cannot be built cannot have been driven: there is nothing to count.
-            let road = Road::new(&t.execution.road_points).ok()?;
-            ExitProfile::of(&road.interpolated, place)
+            ExitProfile::of(&road.as_ref()?.interpolated, place)
         })
-        .collect::<Option<Vec<ExitProfile>>>()?;
-    Some(distinct(&profiles, DELTA_RAD).len())
+        .collect()
+}
+
+/// The greedy count of distinct failures among `profiles` (in test order), and the size of the
+/// sample it was taken over when there were more than [`DISTINCT_EXACT_UP_TO`]: that many drawn
+/// with `seed`, kept in test order. A sample's count is at most the whole run's.
+fn bounded_distinct(profiles: &[ExitProfile], seed: u64) -> (usize, Option<usize>) {
+    if profiles.len() <= DISTINCT_EXACT_UP_TO {
+        return (distinct(profiles, DELTA_RAD).len(), None);
+    }
+    let mut rng = ChaCha20Rng::seed_from_u64(seed);
+    let mut drawn =
+        rand::seq::index::sample(&mut rng, profiles.len(), DISTINCT_EXACT_UP_TO).into_vec();
+    drawn.sort_unstable();
+    let sample: Vec<ExitProfile> = drawn.iter().map(|&i| profiles[i].clone()).collect();
+    (
+        distinct(&sample, DELTA_RAD).len(),
+        Some(DISTINCT_EXACT_UP_TO),
+    )
 }
 
 /// Mean and sample SD of one measure over runs.

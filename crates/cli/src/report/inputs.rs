@@ -10,6 +10,7 @@
 //! Hidden entries (an atomic writer's temporary, `.git`) and linked folders (which could loop) are
 //! not walked.
 
+use crate::files::json_lines::{numbered_lines, open_input};
 use crate::sbst::is_result_folder;
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
@@ -117,24 +118,38 @@ fn is_run_file(name: &str) -> bool {
 /// The paths listed in `list` (`--from FILE`, `-` for standard input), one a line; blank lines
 /// are skipped and a line's surrounding spaces are not part of its path.
 pub fn listed_paths(list: &Path) -> Result<Vec<PathBuf>> {
-    let text = if list == Path::new("-") {
-        std::io::read_to_string(std::io::stdin())
-            .context("cannot read the list of runs on stdin")?
-    } else {
-        std::fs::read_to_string(list)
-            .with_context(|| format!("cannot read the list of runs {}", list.display()))?
-    };
-    let paths: Vec<PathBuf> = text
-        .lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .map(PathBuf::from)
-        .collect();
+    // Read line by line, each line bounded, so that a list that is no list (`/dev/zero`, a run
+    // file given by mistake) neither fills memory nor runs on.
+    let input = open_input(Some(list))
+        .with_context(|| format!("cannot read the list of runs {}", list.display()))?;
+    let mut paths = Vec::new();
+    for line in numbered_lines(input) {
+        let line =
+            line.with_context(|| format!("cannot read the list of runs {}", list.display()))?;
+        match line.text {
+            Ok(text) => paths.push(PathBuf::from(text.trim())),
+            Err(problem) => bail!(
+                "the list of runs {}, line {}: {problem}",
+                list.display(),
+                line.number
+            ),
+        }
+        if paths.len() > MAX_LISTED_RUNS {
+            bail!(
+                "the list of runs {} names more than {MAX_LISTED_RUNS} files",
+                list.display()
+            );
+        }
+    }
     if paths.is_empty() {
         bail!("the list of runs {} names no file", list.display());
     }
     Ok(paths)
 }
+
+/// Most files a list of runs (`--from`) may name: far beyond any campaign (20 seeds of 50
+/// searches is 1,000), small enough that the list's reading is bounded.
+pub const MAX_LISTED_RUNS: usize = 100_000;
 
 #[cfg(test)]
 mod tests {
@@ -212,6 +227,14 @@ mod tests {
             .to_string()
             .contains("names no file"));
         assert!(listed_paths(&dir.join("missing")).is_err());
+        // A list that is no list is refused at its first overlong line, not read whole.
+        let err = listed_paths(Path::new("/dev/zero"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("/dev/zero, line 1: the line is longer than 16 MiB"),
+            "{err}"
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

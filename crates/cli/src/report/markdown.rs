@@ -1,5 +1,9 @@
 //! The text of `report.md`: a table of figures per group, feature coverage, links to the
 //! pictures, and (with `--vs`) the two groups side by side with Mann–Whitney p-values.
+//!
+//! Every string that comes from a file (a group's label from a header, a file or folder name, how
+//! a run ended, a bad line's problem) enters the text through [`literal`], so that it reads as
+//! itself in any Markdown viewer: no markup, link, picture or HTML of its own.
 
 use super::group::{
     FeatureCoverage, GroupFigures, Measure, Spread, MAX_CURV_BIN_PER_M, MEAN_LP_BIN_M,
@@ -19,6 +23,58 @@ pub struct GroupSection {
     pub figures: GroupFigures,
     /// The group's pictures.
     pub pictures: Pictures,
+}
+
+/// `text`, a string from a file, as Markdown text that shows as itself: the characters that make
+/// markup anywhere in a line are escaped with a backslash, `<`, `>` and `&` written as entities
+/// (no HTML, autolink or entity of the file's own reaches a viewer), control characters and line
+/// breaks made spaces (the text stays on its line), and a first character that would start a
+/// block (a list item, a definition, a numbered item) escaped.
+pub fn literal(text: &str) -> String {
+    let chars: Vec<char> = text
+        .chars()
+        .map(|c| {
+            if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
+                ' '
+            } else {
+                c
+            }
+        })
+        .collect();
+    // `12.` or `12)` at the start would number a list.
+    let digits = chars.iter().take_while(|c| c.is_ascii_digit()).count();
+    let mut out = String::with_capacity(text.len() + text.len() / 8);
+    for (index, &c) in chars.iter().enumerate() {
+        // An underscore between letters or digits neither opens nor closes emphasis (CommonMark's
+        // flanking rules), so `max_bolp` stays readable in the file.
+        let inside_a_word = || {
+            index > 0
+                && chars[index - 1].is_alphanumeric()
+                && chars.get(index + 1).is_some_and(|n| n.is_alphanumeric())
+        };
+        let entity = match c {
+            '&' => "&amp;",
+            '<' => "&lt;",
+            '>' => "&gt;",
+            _ => "",
+        };
+        if !entity.is_empty() {
+            out.push_str(entity);
+            continue;
+        }
+        let backslashed = match c {
+            '\\' | '`' | '*' | '[' | ']' | '#' | '|' | '~' | '$' | '{' | '}' => true,
+            '_' => !inside_a_word(),
+            '-' | '+' | '=' | ':' => index == 0,
+            '.' | ')' => digits > 0 && index == digits,
+            _ => false,
+        };
+        if backslashed {
+            out.push('\\');
+        }
+        out.push(c);
+    }
+    out
 }
 
 /// A number with 3 decimals, or a dash when undefined.
@@ -59,7 +115,7 @@ pub fn report(sections: &[GroupSection], compare: bool, problems: &[String]) -> 
             problems.len()
         );
         for problem in problems {
-            let _ = writeln!(text, "- `{problem}`");
+            let _ = writeln!(text, "- {}", literal(problem));
         }
         text.push('\n');
     }
@@ -153,12 +209,12 @@ const DISTINCT_FAILURES: &str = "distinct failures (failing roads ≥ δ apart a
 /// One group's section.
 fn group(number_1: usize, section: &GroupSection) -> String {
     let f = &section.figures;
-    let mut text = format!("## Group {number_1}: {}\n\n", section.label);
+    let mut text = format!("## Group {number_1}: {}\n\n", literal(&section.label));
     for (file, note) in &section.files {
         let note = note
             .as_ref()
-            .map_or_else(String::new, |n| format!(" ({n})"));
-        let _ = writeln!(text, "- `{file}`{note}");
+            .map_or_else(String::new, |n| format!(" ({})", literal(n)));
+        let _ = writeln!(text, "- {}{note}", literal(file));
     }
     text.push_str("\n| measure | mean | SD | runs |\n|---|---|---|---|\n");
     text.push_str(&spread_row("tests executed", &f.executed));
@@ -256,7 +312,7 @@ fn competition(f: &GroupFigures) -> String {
                 .oob
                 .as_ref()
                 .err()
-                .map(|e| format!("run {}: {e}", i + 1))
+                .map(|e| format!("run {}: {}", i + 1, literal(e)))
         })
         .collect();
     if !failed.is_empty() {
@@ -278,7 +334,7 @@ fn competition(f: &GroupFigures) -> String {
 /// The side-by-side table of two groups.
 fn comparison(a: &GroupSection, b: &GroupSection) -> String {
     let mut text = String::from("## Comparison: A vs B\n\n");
-    let _ = writeln!(text, "- {}\n- {}\n", a.label, b.label);
+    let _ = writeln!(text, "- {}\n- {}\n", literal(&a.label), literal(&b.label));
     let competition = COMPETITION_COMPARED.map(|i| COMPETITION[i]);
     text.push_str(&comparison_table(&a.figures, &b.figures, &competition));
     text.push('\n');
@@ -330,4 +386,110 @@ pub fn comparison_table(
         );
     }
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pulldown_cmark::{html::push_html, Parser};
+
+    /// Strings files have carried into reports: HTML, links, pictures, code spans, entities, and
+    /// what would start a block or end a line.
+    const HOSTILE: [&str; 17] = [
+        "<img src=x onerror=\"document.title=1\">",
+        "[x](javascript:alert(1))",
+        "<javascript:alert(1)>",
+        "`<!--<script>`",
+        "![x](nothere.svg)",
+        "![i](javascript:alert(1))",
+        "a` <img src=x onerror=\"document.title=4\"> `b.jsonl",
+        "&lt;b&gt; &#106;avascript",
+        "*strong* _em_ __x__ ~~gone~~ $x$ {: .c} | a | b |",
+        "[ref]: javascript:alert(1)",
+        "- item",
+        "+ item",
+        "12. item",
+        "3) item",
+        "# heading #",
+        "line\nbreak\r\n\n# heading\n<script>x</script>",
+        "trailing \\",
+    ];
+
+    /// The HTML Markdown `text` renders to.
+    fn rendered(text: &str) -> String {
+        let mut html = String::new();
+        push_html(&mut html, Parser::new(text));
+        html
+    }
+
+    /// `text` as a renderer writes plain text.
+    fn as_html_text(text: &str) -> String {
+        text.chars()
+            .map(|c| match c {
+                '&' => "&amp;".to_owned(),
+                '<' => "&lt;".to_owned(),
+                '>' => "&gt;".to_owned(),
+                c if c.is_control() => " ".to_owned(),
+                c => c.to_string(),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_file_string_renders_as_itself_in_a_list_item_and_a_heading() {
+        for hostile in HOSTILE {
+            let text = as_html_text(hostile);
+            assert_eq!(
+                rendered(&format!("- {}\n", literal(hostile))),
+                format!("<ul>\n<li>{}</li>\n</ul>\n", text.trim_end()),
+                "{hostile:?} as {:?}",
+                literal(hostile)
+            );
+            assert_eq!(
+                rendered(&format!("## Group 1: {}\n", literal(hostile))),
+                format!("<h2>Group 1: {}</h2>\n", text.trim_end()),
+                "{hostile:?} as {:?}",
+                literal(hostile)
+            );
+        }
+    }
+
+    #[test]
+    fn a_backtick_cannot_end_a_code_span_nor_a_bracket_make_a_link() {
+        assert_eq!(literal("a` <img> `b.jsonl"), "a\\` &lt;img&gt; \\`b.jsonl");
+        assert_eq!(literal("[x](javascript:1)"), "\\[x\\](javascript:1)");
+        assert_eq!(literal("&#106;"), "&amp;\\#106;");
+        assert_eq!(literal("1\n2\r3\u{2028}4"), "1 2 3 4");
+    }
+
+    #[test]
+    fn ordinary_labels_and_paths_stay_readable() {
+        for plain in [
+            "wogan / beamng-ai-proxy / fitness max_bolp / decay 0.95 / oob 0.85 / 70.0 km/h",
+            "/tmp/runs/wogan.seed3.jsonl",
+            "sbst:FakeGen",
+            "failed part-way: the generator crashed: pandas.errors.InvalidIndexError (x)",
+        ] {
+            assert_eq!(literal(plain), plain);
+        }
+        assert_eq!(literal("-x_ _y 2021.jsonl"), "\\-x\\_ \\_y 2021.jsonl");
+    }
+
+    #[test]
+    fn the_report_quotes_every_file_string_literally() {
+        let hostile = "<img src=x onerror=\"document.title=1\">";
+        let section = GroupSection {
+            label: hostile.to_owned(),
+            files: vec![(format!("`{hostile}`.jsonl"), Some(hostile.to_owned()))],
+            figures: GroupFigures::of(&[]),
+            pictures: Pictures {
+                roads: "roads.g1.svg".into(),
+                bolp: "bolp.g1.svg".into(),
+                fitness: vec![],
+            },
+        };
+        let text = report(&[section], false, &[format!("x.jsonl:1: `{hostile}`")]);
+        assert!(!text.contains('<'), "{text}");
+        assert!(!rendered(&text).contains("<img src=x"), "{text}");
+    }
 }

@@ -15,6 +15,19 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
+/// The report was stopped by Ctrl-C or SIGTERM before it was written (nothing was).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("stopped by Ctrl-C or SIGTERM before the report was written")]
+pub struct Interrupted;
+
+/// `Err(Interrupted)` once Ctrl-C or SIGTERM came: checked between the report's long steps.
+fn not_stopped() -> Result<()> {
+    if crate::interrupt::stopped() {
+        return Err(Interrupted.into());
+    }
+    Ok(())
+}
+
 /// What a report keeps of each run it reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Keep {
@@ -87,6 +100,12 @@ pub(super) fn group_runs(a_paths: &[PathBuf], b_paths: &[PathBuf], keep: Keep) -
     let mut problems = Vec::new();
     let a = read_runs(&a_paths, keep, &mut problems)?;
     let b = read_runs(&b_paths, keep, &mut problems)?;
+    not_stopped()?;
+    for (run, measures) in a.iter().chain(&b) {
+        if let Some(measures) = measures {
+            note_samples(&run.path, measures);
+        }
+    }
     problems.extend(
         a.iter()
             .chain(&b)
@@ -148,7 +167,9 @@ pub(super) fn group_runs(a_paths: &[PathBuf], b_paths: &[PathBuf], keep: Keep) -
 /// Writes `out/report.md` and its pictures for the runs of `a_paths`: grouped by configuration,
 /// or, when `b_paths` is not empty, as two groups compared with Mann–Whitney U tests; with `html`,
 /// `out/report.html` too. Returns how many inputs were bad (problems, each said on stderr, and
-/// runs that did not end normally; what they hold is reported).
+/// runs that did not end normally; what they hold is reported). Ctrl-C or SIGTERM (once
+/// [`crate::interrupt::stop_flag`] is installed) ends it with [`Interrupted`] before report.md is
+/// written; during `--traces` drives, the page is written with the drives that ended.
 pub fn runs_report(
     a_paths: &[PathBuf],
     b_paths: &[PathBuf],
@@ -162,7 +183,12 @@ pub fn runs_report(
         let slug = format!("g{}", index + 1);
         let runs: Vec<&RunFile> = runs.iter().collect();
         let figures = GroupFigures::of(&runs);
+        not_stopped()?;
+        for (run, measures) in runs.iter().zip(&figures.runs) {
+            note_samples(&run.path, measures);
+        }
         let pictures = draw_group(out, &slug, label, &runs)?;
+        not_stopped()?;
         let files = runs
             .iter()
             .map(|r| (r.path.display().to_string(), end_note(r)))
@@ -174,7 +200,8 @@ pub fn runs_report(
             pictures,
         });
     }
-    let text = markdown::report(&sections, grouped.compare, &grouped.problems);
+    let mut text = markdown::report(&sections, grouped.compare, &grouped.problems);
+    text.push_str(&sampled_section(&sections));
     let path = out.join("report.md");
     std::fs::write(&path, &text).with_context(|| format!("cannot write {}", path.display()))?;
     eprintln!("wogan report: wrote {}", path.display());
@@ -185,12 +212,52 @@ pub fn runs_report(
             .map(|(_, runs)| runs.as_slice())
             .collect();
         let (path, not_traced) = write_html_report(out, &text, &sections, &groups, options, stop)?;
-        for problem in &not_traced {
-            eprintln!("wogan report: {problem}");
+        for reason in &not_traced.reasons {
+            eprintln!("wogan report: {reason}");
         }
         eprintln!("wogan report: wrote {}", path.display());
+        return Ok(bad_inputs + not_traced.bad_headers);
     }
     Ok(bad_inputs)
+}
+
+/// Says on stderr which of a run's measures were taken on a sample of its failures.
+fn note_samples(path: &Path, measures: &RunMeasures) {
+    let sampled = measures.sampled();
+    if !sampled.is_empty() {
+        eprintln!(
+            "wogan report: {}: {} (a seeded sample: docs/reference.md, `wogan report`)",
+            path.display(),
+            sampled.join("; ")
+        );
+    }
+}
+
+/// A section of report.md naming the runs whose measures were taken on a sample of their
+/// failures (by group and place in the group's list: no text from the files), or nothing.
+fn sampled_section(sections: &[GroupSection]) -> String {
+    let mut lines = String::new();
+    for (group, section) in sections.iter().enumerate() {
+        for (run, measures) in section.figures.runs.iter().enumerate() {
+            let sampled = measures.sampled();
+            if !sampled.is_empty() {
+                lines.push_str(&format!(
+                    "- group {}, run {}: {}\n",
+                    group + 1,
+                    run + 1,
+                    sampled.join("; ")
+                ));
+            }
+        }
+    }
+    if lines.is_empty() {
+        return lines;
+    }
+    format!(
+        "\n## Measures taken on a sample\n\nThese runs have more failures than the pairwise \
+         measures compare in full; each was measured on a sample drawn with the run's seed \
+         (docs/reference.md, `wogan report`):\n\n{lines}"
+    )
 }
 
 /// How a run ended, when not normally.
@@ -313,6 +380,7 @@ fn read_runs(files: &[GivenFile], keep: Keep, problems: &mut Vec<String>) -> Res
     let read: Vec<Result<ReadRun>> = files
         .par_iter()
         .map(|f| {
+            not_stopped()?;
             let mut run = match f.kind {
                 InputKind::RunFile => read_run(&f.path)?,
                 InputKind::ResultFolder => read_result_folder(&f.path)?,
@@ -327,6 +395,7 @@ fn read_runs(files: &[GivenFile], keep: Keep, problems: &mut Vec<String>) -> Res
             Ok((run, measures))
         })
         .collect();
+    not_stopped()?;
     let mut runs = Vec::with_capacity(read.len());
     for (file, run) in files.iter().zip(read) {
         match run {

@@ -4,7 +4,7 @@
 //! included.
 
 use super::group::GroupFigures;
-use super::markdown::{comparison_table, COMPETITION};
+use super::markdown::{comparison_table, literal, COMPETITION};
 use super::runs_report::{end_note, group_runs, Keep};
 use super::stats::{mean, median};
 use anyhow::Result;
@@ -20,13 +20,18 @@ pub fn runs_tables(a_paths: &[PathBuf], b_paths: &[PathBuf]) -> Result<(String, 
         .groups
         .iter()
         .flat_map(|(_, runs)| runs)
-        .filter_map(|r| Some(format!("- `{}`: {}\n", r.path.display(), end_note(r)?)))
+        .filter_map(|r| {
+            let path = literal(&r.path.display().to_string());
+            Some(format!("- {path}: {}\n", literal(&end_note(r)?)))
+        })
         .collect();
     let figures: Vec<(String, GroupFigures)> = grouped.figures();
     let mut text = match figures.as_slice() {
         [(a_label, a), (b_label, b)] if grouped.compare => {
             format!(
-                "- {a_label}\n- {b_label}\n\n{}",
+                "- {}\n- {}\n\n{}",
+                literal(a_label),
+                literal(b_label),
                 comparison_table(a, b, &COMPETITION)
             )
         }
@@ -101,7 +106,8 @@ fn configurations_table(groups: &[(String, GroupFigures)]) -> String {
         };
         let _ = writeln!(
             text,
-            "| {label} | {} | {} | {} | {diversity_text} | {} | {} | {} | {per_candidate} |",
+            "| {} | {} | {} | {} | {diversity_text} | {} | {} | {} | {per_candidate} |",
+            literal(label),
             runs.len(),
             median_mean(&failures),
             runs_of(median_mean(&distinct), distinct.len(), runs.len()),

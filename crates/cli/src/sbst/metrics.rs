@@ -123,21 +123,33 @@ pub struct SbstMeasures {
 }
 
 impl SbstMeasures {
-    /// Measures `run`.
+    /// Measures `run`. The sparseness is the pipeline's up to
+    /// [`oob::sparseness::EXACT_UP_TO`] OOBs, above that of a sample drawn with the run's seed
+    /// ([`oob::summarise_bounded`]); Ctrl-C stops it (the report then ends without its figures).
     pub fn of(run: &RunFile) -> Self {
         let stats = GenerationStats::of(run);
-        let summarise = |e: &[OobEntry]| oob::summarise(e).map_err(|e| e.to_string());
+        let seed = run.header.as_ref().and_then(|h| h.seed).unwrap_or(0);
+        let stop = Some(crate::interrupt::stop_signal());
+        let summarise =
+            |e: &[OobEntry]| oob::summarise_bounded(e, seed, stop).map_err(|e| e.to_string());
         let (oob, oob_placed, oob_unplaced) = match oob_tests(run) {
             Err(e) => (Err(e.to_string()), Err(e.to_string()), 0),
             Ok(tests) => {
                 let entries = oob::entries(&tests);
-                let placed: Vec<OobEntry> = entries
-                    .iter()
-                    .filter(|entry| entry.failure.is_none())
-                    .cloned()
-                    .collect();
-                let unplaced = entries.len() - placed.len();
-                (summarise(&entries), summarise(&placed), unplaced)
+                let unplaced = entries.iter().filter(|e| e.failure.is_some()).count();
+                let oob = summarise(&entries);
+                // With every OOB placed the two summaries are one: measured once.
+                let placed = if unplaced == 0 {
+                    oob.clone()
+                } else {
+                    let placed: Vec<OobEntry> = entries
+                        .iter()
+                        .filter(|entry| entry.failure.is_none())
+                        .cloned()
+                        .collect();
+                    summarise(&placed)
+                };
+                (oob, placed, unplaced)
             }
         };
         let generated = stats.generated as usize;

@@ -1,16 +1,23 @@
-//! The executor protocol, version 2. wogan writes one JSON object per line, each with a `"type"`:
-//! `hello` once when the executor starts (not answered), `road` per road (answered by exactly one
-//! line), `bye` before it closes the executor's input (not answered). An answer is one JSON object:
-//! `id` (required: the road it answers) and `max_bolp` (required, in `[0, 1]`), and optionally
+//! The executor protocol, version 3. wogan writes one JSON object per line, each with a `"type"`:
+//! `hello` once when the executor starts, answered by the executor's own `hello` (the protocol and
+//! version it speaks, and optionally what it is: `executor.name`, `executor.version`,
+//! `executor.settings`, and `roads_at_once`: how many roads it drives at once, 1 to 1024, which
+//! wogan keeps in flight to it, matching answers by `id` in any order: [`super::executor_pool`])
+//! before any road is sent; `road` per road (answered by exactly one line);
+//! `bye` before it closes the executor's input (not answered). An answer is one JSON object: `id`
+//! (required: the road it answers) and `max_bolp` (required, in `[0, 1]`), and optionally
 //! `outcome` (`PASS`, `FAIL` or `ERROR`; derived from the tolerance when absent), `sim_time_s`
 //! (simulated seconds, charged to the execution budget; 0 when absent), `oob_side` (`left` or
-//! `right`), `oob_point` (`[x, y]` metres: where the car centre was when it left, with `oob_side`)
+//! `right`), `oob_point` (`[x, y]` metres: where the car centre was when it left, with `oob_side`),
+//! `min_lane_distance_m` (the least signed distance of the car centre to its lane's edges, metres)
 //! and `error` (text: why the road could not be driven, kept in the test record of an `ERROR`).
 //! Other fields are ignored, so `wogan simulate`'s `result` lines, which echo the input's `id`, are
-//! answers.
+//! answers (and `simulate` answers `hello`).
 //!
 //! Version 2 added the answer's `id`: without it, a second line for one road could be taken for the
-//! answer to the next, and every answer after it would be one road late.
+//! answer to the next, and every answer after it would be one road late. Version 3 made `hello`
+//! answered: without a reply, a line an executor wrote before it had read anything was taken for
+//! road 1's answer, as nothing told it from one written after.
 
 use child_process::Echo;
 use road_sim::sim::CENTRED_DISTANCE_M;
@@ -21,7 +28,11 @@ use serde_json::Value;
 /// The protocol's name in the `hello` line.
 pub const PROTOCOL: &str = "wogan-executor";
 /// The protocol's version.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
+/// Longest a drive may last in simulated seconds, as for wogan's own simulator.
+const MAX_SIM_TIME_S: f64 = road_sim::sim::MAX_SIM_TIME_S;
+/// Farthest a point an executor names may lie from the map's origin, metres: the longest road.
+const MAX_COORDINATE_M: f64 = road_sim::validator::MAX_ROAD_LENGTH_M;
 
 /// A line wogan writes to the executor.
 #[derive(Debug, Clone, Serialize)]
@@ -74,6 +85,123 @@ pub struct Answer {
     pub min_lane_distance_m: Option<f64>,
 }
 
+/// What an executor says of itself in its reply to `hello` (every field optional).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct ExecutorDescription {
+    /// Its name.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Its own version.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub version: Option<String>,
+    /// Its own settings, as it gives them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settings: Option<serde_json::Map<String, Value>>,
+}
+
+/// Most roads one executor may take at once (`roads_at_once`).
+pub const MAX_ROADS_AT_ONCE: usize = 1024;
+
+/// The executor's reply to `hello`, checked.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HelloReply {
+    /// Roads it drives at once: wogan keeps up to this many in flight to it (1 when it does not
+    /// say), answered in any order.
+    pub roads_at_once: usize,
+    /// What it says of itself.
+    pub description: ExecutorDescription,
+}
+
+/// Reads the executor's reply to `hello`: its own `hello`, of this protocol and version.
+pub fn parse_hello_reply(line: &str) -> Result<HelloReply, AnswerError> {
+    let value: Value = serde_json::from_str(line).map_err(|e| not_json(line, &e))?;
+    let object = value.as_object().ok_or(AnswerError::NotObject)?;
+    if object.get("type").and_then(Value::as_str) != Some("hello") {
+        return Err(AnswerError::NoHello(child_process::quoted(line)));
+    }
+    match object.get("protocol") {
+        Some(Value::String(p)) if p == PROTOCOL => {}
+        other => {
+            return Err(field(
+                "protocol",
+                format!("{} is not \"{PROTOCOL}\"", shown(other)),
+            ))
+        }
+    }
+    match object.get("version").and_then(Value::as_u64) {
+        Some(v) if v == u64::from(VERSION) => {}
+        _ => {
+            return Err(field(
+                "version",
+                format!(
+                    "{} is not {VERSION}, the version this wogan speaks",
+                    shown(object.get("version"))
+                ),
+            ))
+        }
+    }
+    let roads_at_once = match object.get("roads_at_once") {
+        None | Some(Value::Null) => 1,
+        Some(value) => match value.as_u64() {
+            Some(n) if (1..=MAX_ROADS_AT_ONCE as u64).contains(&n) => n as usize,
+            _ => {
+                return Err(field(
+                    "roads_at_once",
+                    format!(
+                        "{} is not a whole number from 1 to {MAX_ROADS_AT_ONCE}",
+                        shown(Some(value))
+                    ),
+                ))
+            }
+        },
+    };
+    let description = executor_description(object.get("executor"))?;
+    Ok(HelloReply {
+        roads_at_once,
+        description,
+    })
+}
+
+/// The reply's `executor` object: what the executor says of itself.
+fn executor_description(executor: Option<&Value>) -> Result<ExecutorDescription, AnswerError> {
+    let Some(executor) = executor.filter(|e| !e.is_null()) else {
+        return Ok(ExecutorDescription::default());
+    };
+    let executor = executor
+        .as_object()
+        .ok_or_else(|| field("executor", "not an object"))?;
+    let text = |name: &'static str, key: &str| match executor.get(key) {
+        None | Some(Value::Null) => Ok(None),
+        Some(Value::String(s)) => Ok(Some(s.clone())),
+        Some(other) => Err(field(name, format!("{} is not text", shown(Some(other))))),
+    };
+    let settings = match executor.get("settings") {
+        None | Some(Value::Null) => None,
+        Some(Value::Object(settings)) => Some(settings.clone()),
+        Some(other) => {
+            return Err(field(
+                "executor.settings",
+                format!("{} is not an object", shown(Some(other))),
+            ))
+        }
+    };
+    Ok(ExecutorDescription {
+        name: text("executor.name", "name")?,
+        version: text("executor.version", "version")?,
+        settings,
+    })
+}
+
+/// A value as a message quotes it: its JSON, cut and printable ("nothing" when absent).
+fn shown(value: Option<&Value>) -> String {
+    value.map_or("nothing".into(), |v| child_process::quoted(&v.to_string()))
+}
+
+/// A line that is not JSON: serde's reason and the line's start.
+fn not_json(line: &str, error: &serde_json::Error) -> AnswerError {
+    AnswerError::NotJson(format!("{error}: {}", child_process::quoted(line)))
+}
+
 /// Why an answer line is not an answer to the road asked; each names the field at fault.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum AnswerError {
@@ -83,6 +211,12 @@ pub enum AnswerError {
     /// The line is JSON but not an object.
     #[error("the answer is not a JSON object")]
     NotObject,
+    /// The executor's first line is not its reply to `hello`.
+    #[error(
+        "its first line is not its reply to hello (version {VERSION} executors answer hello before \
+         any road; see wogan's docs/reference.md): {0}"
+    )]
+    NoHello(String),
     /// A field is missing, of the wrong kind or out of range.
     #[error("{field}: {problem}")]
     Field {
@@ -114,8 +248,7 @@ pub fn parse_answer(
     oob_tolerance: f64,
     needs_lane_distance: bool,
 ) -> Result<Answer, AnswerError> {
-    let value: Value =
-        serde_json::from_str(line).map_err(|e| AnswerError::NotJson(e.to_string()))?;
+    let value: Value = serde_json::from_str(line).map_err(|e| not_json(line, &e))?;
     let object = value.as_object().ok_or(AnswerError::NotObject)?;
     match Echo::of(object.get("id"), asked, answered) {
         Echo::Asked => {}
@@ -153,11 +286,11 @@ pub fn parse_answer(
     let sim_time_s = match object.get("sim_time_s") {
         None | Some(Value::Null) => 0.0,
         Some(v) => match v.as_f64() {
-            Some(t) if t.is_finite() && t >= 0.0 => t,
+            Some(t) if (0.0..=MAX_SIM_TIME_S).contains(&t) => t,
             _ => {
                 return Err(field(
                     "sim_time_s",
-                    format!("{v} is not a finite number of seconds >= 0"),
+                    format!("{v} is not a number of seconds from 0 to {MAX_SIM_TIME_S}"),
                 ))
             }
         },
@@ -180,7 +313,7 @@ pub fn parse_answer(
                 .as_array()
                 .filter(|xy| xy.len() == 2)
                 .and_then(|xy| Some([xy[0].as_f64()?, xy[1].as_f64()?]))
-                .filter(|p| p.iter().all(|v| v.is_finite()));
+                .filter(|p| p.iter().all(|v| v.abs() <= MAX_COORDINATE_M));
             match point {
                 Some(_) if oob_side.is_none() => {
                     return Err(field("oob_point", "given without oob_side"))
@@ -189,7 +322,10 @@ pub fn parse_answer(
                 None => {
                     return Err(field(
                         "oob_point",
-                        format!("{value} is not [x, y] in finite metres"),
+                        format!(
+                            "{} is not [x, y] in metres within {MAX_COORDINATE_M} of the origin",
+                            shown(Some(value))
+                        ),
                     ))
                 }
             }
@@ -210,13 +346,14 @@ pub fn parse_answer(
         }
         None | Some(Value::Null) => None,
         Some(v) => match v.as_f64() {
-            Some(d) if d.is_finite() && d <= CENTRED_DISTANCE_M + 1e-6 => Some(d),
+            Some(d) if (-MAX_COORDINATE_M..=CENTRED_DISTANCE_M + 1e-6).contains(&d) => Some(d),
             _ => {
                 return Err(field(
                     "min_lane_distance_m",
                     format!(
-                        "{v} is not a finite number of metres <= {CENTRED_DISTANCE_M} (the most a \
-                         car centre can be from the edges of a 4 m lane)"
+                        "{v} is not a number of metres from -{MAX_COORDINATE_M} to \
+                         {CENTRED_DISTANCE_M} (the most a car centre can be from the edges of a 4 m \
+                         lane)"
                     ),
                 ))
             }
@@ -314,7 +451,7 @@ mod tests {
             ("[1]", "not a JSON object"),
             (
                 r#"{"max_bolp": 0.1}"#,
-                "id: missing (version 2 answers name their road)",
+                "id: missing (version 3 answers name their road)",
             ),
             (r#"{"id": "3", "max_bolp": 0.1}"#, "id: not a road number"),
             (
@@ -342,7 +479,7 @@ mod tests {
             ),
             (
                 r#"{"id": 3, "max_bolp": 0.9, "oob_side": "left", "oob_point": [1]}"#,
-                "oob_point: [1] is not [x, y] in finite metres",
+                "oob_point: [1] is not [x, y] in metres within",
             ),
             (
                 r#"{"id": 3, "max_bolp": 0.9, "oob_side": "left", "oob_point": "here"}"#,
@@ -364,10 +501,88 @@ mod tests {
                 r#"{"id": 3, "max_bolp": 0.1, "min_lane_distance_m": "near"}"#,
                 "min_lane_distance_m:",
             ),
+            // Numbers that are JSON but no drive's: the run's sums would overflow.
+            (
+                r#"{"id": 3, "max_bolp": 0.1, "sim_time_s": 1e308}"#,
+                "sim_time_s: 1e+308 is not a number of seconds from 0 to 3600",
+            ),
+            (
+                r#"{"id": 3, "max_bolp": 0.1, "min_lane_distance_m": -1e308}"#,
+                "min_lane_distance_m: -1e+308 is not",
+            ),
+            (
+                r#"{"id": 3, "max_bolp": 0.9, "oob_side": "left", "oob_point": [1e308, 0]}"#,
+                "oob_point:",
+            ),
+            (
+                "garbage \u{1b}[2J",
+                "expected value at line 1 column 1: garbage \\x1b[2J",
+            ),
         ] {
             let error = parse_answer(line, 3, Some(2), 0.85, false)
                 .unwrap_err()
                 .to_string();
+            assert!(error.contains(says), "{line}: {error}");
+        }
+    }
+
+    #[test]
+    fn the_reply_to_hello_names_the_protocol_and_may_describe_the_executor() {
+        let reply = parse_hello_reply(
+            r#"{"type": "hello", "protocol": "wogan-executor", "version": 3, "roads_at_once": 32,
+                "executor": {"name": "metadrive", "version": "0.4", "settings": {"policy": "idm"}}}"#,
+        )
+        .unwrap();
+        assert_eq!(reply.roads_at_once, 32);
+        let described = reply.description;
+        assert_eq!(described.name.as_deref(), Some("metadrive"));
+        assert_eq!(described.version.as_deref(), Some("0.4"));
+        assert_eq!(described.settings.unwrap()["policy"], "idm");
+        let bare = r#"{"type": "hello", "protocol": "wogan-executor", "version": 3}"#;
+        assert_eq!(
+            parse_hello_reply(bare).unwrap(),
+            HelloReply {
+                roads_at_once: 1,
+                description: ExecutorDescription::default()
+            }
+        );
+        for (line, says) in [
+            // An answer written before anything was read is no reply (defect 19).
+            (
+                r#"{"id": 1, "max_bolp": 0.99}"#,
+                "its first line is not its reply to hello",
+            ),
+            ("not json", "not JSON"),
+            (
+                r#"{"type": "hello", "protocol": "other", "version": 3}"#,
+                "protocol:",
+            ),
+            (
+                r#"{"type": "hello", "protocol": "wogan-executor", "version": 2}"#,
+                "version: 2 is not 3",
+            ),
+            (
+                r#"{"type": "hello", "protocol": "wogan-executor"}"#,
+                "version: nothing is not 3",
+            ),
+            (
+                r#"{"type": "hello", "protocol": "wogan-executor", "version": 3, "executor": {"name": 7}}"#,
+                "executor.name: 7 is not text",
+            ),
+            (
+                r#"{"type": "hello", "protocol": "wogan-executor", "version": 3, "executor": {"settings": []}}"#,
+                "executor.settings: [] is not an object",
+            ),
+            (
+                r#"{"type": "hello", "protocol": "wogan-executor", "version": 3, "roads_at_once": 0}"#,
+                "roads_at_once: 0 is not a whole number from 1 to 1024",
+            ),
+            (
+                r#"{"type": "hello", "protocol": "wogan-executor", "version": 3, "roads_at_once": 2.5}"#,
+                "roads_at_once: 2.5 is not",
+            ),
+        ] {
+            let error = parse_hello_reply(line).unwrap_err().to_string();
             assert!(error.contains(says), "{line}: {error}");
         }
     }

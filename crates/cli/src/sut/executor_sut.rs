@@ -1,32 +1,22 @@
 //! The road problem with an external executor as the simulator: validity and roads are wogan's
-//! (the competition's validator), driving is the executor's. Executors are started as needed, one
-//! per worker, and reused; one that fails a road (ended, late, garbage, an answer out of range) is
-//! killed, the road ends as `ERROR` with the reason and the tail of its stderr, and the next road
-//! starts a new one. After too many failed roads in a row ([`FailureStreak`]) the run is stopped,
-//! with every finished test written.
+//! (the competition's validator), driving is the executor's ([`ExecutorPool`]: executors started
+//! as roads come, each answering `hello` before its first road and taking as many roads at once
+//! as it announced). A road whose executor failed (ended, late, garbage, an answer out of range)
+//! ends as `ERROR` with the reason and the tail of its stderr. After too many failed roads in a row
+//! ([`FailureStreak`]) the run is stopped, with every finished test written.
 
-use super::executor_protocol::{parse_answer, Answer, Request, PROTOCOL, VERSION};
+use super::executor_pool::{ExecutorPool, ExecutorSettings, HelloSettings, NoAnswer};
+use super::executor_protocol::{parse_answer, Answer, ExecutorDescription};
 use crate::files::records::RoadExecution;
 use crate::sut::failure_streak::FailureStreak;
 use crate::sut::road_sut::RoadSut;
-use child_process::{ChildProcess, Fault};
 use road_sim::oob::sbst_side;
 use road_sim::road::features::RoadFeatures;
 use road_sim::sim::fitness_from_distance;
 use road_sim::{FitnessKind, LaneExit, Outcome, Road, SimConfig, SimResult};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::Mutex;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 use wogan_core::{Execution, Sut};
-
-/// How the executor is run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ExecutorSettings {
-    /// The command, as typed after `cmd:` on the command line (never read from a file).
-    pub command: String,
-    /// Longest wait for one road's answer.
-    pub timeout: Duration,
-}
 
 /// Roads from test vectors, driven by an executor.
 pub struct ExecutorSut<'a> {
@@ -36,13 +26,11 @@ pub struct ExecutorSut<'a> {
     pub sim: SimConfig,
     /// What the search maximises (the lane distance only from executors that answer with it).
     pub fitness: FitnessKind,
-    /// The executor's command and limits.
-    pub settings: ExecutorSettings,
     /// Set by Ctrl-C, and by the executor giving up.
     pub stop: &'a AtomicBool,
     /// Failed roads in a row.
     pub streak: &'a FailureStreak,
-    idle: Mutex<Vec<ChildProcess>>,
+    executors: ExecutorPool,
     roads_sent: AtomicUsize,
 }
 
@@ -56,77 +44,41 @@ impl<'a> ExecutorSut<'a> {
         streak: &'a FailureStreak,
         stop: &'a AtomicBool,
     ) -> Self {
+        let hello = HelloSettings {
+            map_size_m: roads.roads.map_size_m,
+            oob_tolerance: sim.oob_tolerance,
+            speed_limit_kmh: sim.speed_limit_kmh,
+        };
         Self {
             roads,
             sim,
             fitness,
-            settings,
             stop,
             streak,
-            idle: Mutex::new(Vec::new()),
+            executors: ExecutorPool::new(settings, hello),
             roads_sent: AtomicUsize::new(0),
         }
     }
 
-    fn hello(&self) -> Request<'static> {
-        Request::Hello {
-            protocol: PROTOCOL,
-            version: VERSION,
-            units: "metres, seconds",
-            map_size_m: self.roads.roads.map_size_m,
-            oob_tolerance: self.sim.oob_tolerance,
-            speed_limit_kmh: self.sim.speed_limit_kmh,
-        }
+    /// What the executor said of itself in its reply to `hello`, and how many roads it took at
+    /// once, once one has answered.
+    pub fn description(&self) -> Option<(ExecutorDescription, usize)> {
+        self.executors.description()
     }
 
-    /// Drives `road_points` with an idle executor or a new one: its checked answer, or why there
-    /// is none (`None`: the run is being stopped). An executor that failed is killed, not reused.
+    /// Drives `road_points` with an executor: its checked answer, or why there is none (`None`:
+    /// the run is being stopped).
     fn ask(&self, id: usize, road_points: &[road_sim::Point]) -> Result<Answer, Option<String>> {
-        let idle = self.idle.lock().unwrap_or_else(|p| p.into_inner()).pop();
-        let mut process = match idle {
-            Some(process) => process,
-            None => ChildProcess::start(&self.settings.command, &self.hello(), &Request::Bye)
-                .map_err(|fault| Some(format!("road {id}: the executor: {fault}")))?,
-        };
-        let request = Request::Road { id, road_points };
-        let answered = process.answer(
-            &request,
-            id as u64,
-            self.settings.timeout,
-            self.stop,
-            |line, answered| {
-                let needs_lane_distance = self.fitness == FitnessKind::Distance;
-                parse_answer(
-                    line,
-                    id as u64,
-                    answered,
-                    self.sim.oob_tolerance,
-                    needs_lane_distance,
-                )
-            },
-        );
-        match answered {
-            Ok(Ok(answer)) => {
-                self.idle
-                    .lock()
-                    .unwrap_or_else(|p| p.into_inner())
-                    .push(process);
-                Ok(answer)
-            }
-            Err(Fault::Stopped) => Err(None),
-            failed => {
-                let problem = match failed {
-                    Ok(Err(problem)) => problem.to_string(),
-                    Err(fault) => fault.to_string(),
-                    Ok(Ok(_)) => String::new(),
-                };
-                let stderr = process.stderr_tail();
-                let mut reason = format!("road {id}: the executor: {problem}");
-                if !stderr.is_empty() {
-                    reason.push_str(&format!("; its stderr ended with:\n{stderr}"));
-                }
-                Err(Some(reason))
-            }
+        let needs_lane_distance = self.fitness == FitnessKind::Distance;
+        let tolerance = self.sim.oob_tolerance;
+        let read = |line: &str| parse_answer(line, id as u64, None, tolerance, needs_lane_distance);
+        match self
+            .executors
+            .drive(id as u64, road_points, self.stop, read)
+        {
+            Ok(answer) => Ok(answer),
+            Err(NoAnswer::Stopped) => Err(None),
+            Err(NoAnswer::Failed(reason)) => Err(Some(reason)),
         }
     }
 }

@@ -3,11 +3,13 @@
 //! driver; [`executor_sut`] hands it to an executor, an external program that drives it in any
 //! simulator and answers with the result (`wogan run --executor cmd:"COMMAND"`), over the
 //! versioned protocol of [`executor_protocol`] (docs/reference.md has the specification and a full
-//! exchange). Both give up after a streak of failed drives ([`failure_streak`]).
+//! exchange), through the executors [`executor_pool`] starts and feeds. Both give up after a streak of failed drives ([`failure_streak`]).
 
+pub mod executor_pool;
 pub mod executor_protocol;
 pub mod executor_sut;
 pub mod failure_streak;
 pub mod road_sut;
 
-pub use executor_sut::{ExecutorSettings, ExecutorSut};
+pub use executor_pool::ExecutorSettings;
+pub use executor_sut::ExecutorSut;

@@ -24,8 +24,8 @@
 
 use super::pedals::pedals;
 use crate::road::{polyline, Point, Road};
-use crate::setting_checks::{all_non_negative, all_positive, SettingsError};
-use crate::sim::{Command, Driver, Observation, VehicleParams};
+use crate::setting_checks::{all_positive, all_within, SettingsError};
+use crate::sim::{Command, Driver, Observation, VehicleParams, MAX_PHYSICS_HZ};
 use serde::{Deserialize, Serialize};
 
 const G: f64 = 9.81;
@@ -94,31 +94,40 @@ impl Default for BeamNgAiParams {
 }
 
 impl BeamNgAiParams {
-    /// Names the first setting the driver cannot work with.
+    /// Names the first setting the driver cannot work with. Accelerations are in g, gains per
+    /// metre per second; each range holds the defaults and every tuning the calibration tried
+    /// (docs/experiments/2026-11-23-drivers-on-long-roads.md) with room to spare. The control
+    /// rate is at most the simulator's physics rate, which a faster one could not be.
     pub fn validate(&self) -> Result<(), SettingsError> {
         let mut settings = vec![
-            ("aggression", self.aggression),
-            ("lateral_grip_base", self.lateral_grip_base),
+            ("aggression", self.aggression, 0.0, 1.0),
+            ("lateral_grip_base", self.lateral_grip_base, 0.0, 10.0),
             (
                 "lateral_grip_per_aggression",
                 self.lateral_grip_per_aggression,
+                0.0,
+                10.0,
             ),
-            ("brake_base", self.brake_base),
-            ("brake_per_aggression", self.brake_per_aggression),
-            ("lookahead_base_m", self.lookahead_base_m),
-            ("lookahead_time_s", self.lookahead_time_s),
-            ("steering_gain", self.steering_gain),
-            ("plan_half_chord_m", self.plan_half_chord_m),
-            ("speed_preview_s", self.speed_preview_s),
-            ("throttle_gain", self.throttle_gain),
-            ("brake_gain", self.brake_gain),
-            ("brake_deadband_mps", self.brake_deadband_mps),
+            ("brake_base", self.brake_base, 0.0, 10.0),
+            ("brake_per_aggression", self.brake_per_aggression, 0.0, 10.0),
+            ("lookahead_base_m", self.lookahead_base_m, 0.0, 100.0),
+            ("lookahead_time_s", self.lookahead_time_s, 0.0, 10.0),
+            ("steering_gain", self.steering_gain, 0.0, 10.0),
+            ("plan_half_chord_m", self.plan_half_chord_m, 0.0, 100.0),
+            ("speed_preview_s", self.speed_preview_s, 0.0, 10.0),
+            ("throttle_gain", self.throttle_gain, 0.0, 100.0),
+            ("brake_gain", self.brake_gain, 0.0, 100.0),
+            ("brake_deadband_mps", self.brake_deadband_mps, 0.0, 100.0),
         ];
         if let Some(offset_m) = self.lift_off_offset_m {
-            settings.push(("lift_off_offset_m", offset_m));
+            settings.push(("lift_off_offset_m", offset_m, 0.0, 100.0));
         }
-        all_non_negative("driver.", &settings)?;
-        all_positive("driver.", &[("control_hz", self.control_hz)])
+        all_within("driver.", &settings)?;
+        all_positive("driver.", &[("control_hz", self.control_hz)])?;
+        all_within(
+            "driver.",
+            &[("control_hz", self.control_hz, 0.01, MAX_PHYSICS_HZ)],
+        )
     }
 }
 

@@ -7,7 +7,7 @@
 
 use super::pedals::pedals;
 use crate::road::Road;
-use crate::setting_checks::{all_non_negative, all_within, SettingsError};
+use crate::setting_checks::{all_within, SettingsError};
 use crate::sim::{Command, Driver, Observation, VehicleParams};
 use crate::vision::{Camera, CameraParams, Dave2Net, Dave2Weights, Frame, RoadScene, WeightsError};
 use serde::{Deserialize, Serialize};
@@ -69,12 +69,12 @@ impl Dave2DriverParams {
                 ("speed_kmh", self.speed_kmh, 0.1, 300.0),
             ],
         )?;
-        all_non_negative(
+        all_within(
             "driver.",
             &[
-                ("throttle_gain", self.throttle_gain),
-                ("brake_gain", self.brake_gain),
-                ("brake_deadband_mps", self.brake_deadband_mps),
+                ("throttle_gain", self.throttle_gain, 0.0, 100.0),
+                ("brake_gain", self.brake_gain, 0.0, 100.0),
+                ("brake_deadband_mps", self.brake_deadband_mps, 0.0, 100.0),
             ],
         )
     }

@@ -50,4 +50,7 @@ pub struct OobSummary {
     pub sparseness_mean: f64,
     /// Population SD of the per-test maximum distances; NaN with fewer than two entries.
     pub sparseness_sd: f64,
+    /// How many entries the sparseness was measured on when a sample was
+    /// ([`crate::oob::bounded_sparseness`]); `None` when every pair was measured.
+    pub sparseness_sample: Option<usize>,
 }

@@ -27,6 +27,9 @@ pub enum OobError {
     /// A segment of fewer than two points has no steps to compare (the pipeline asserts).
     #[error("a segment needs at least 2 points to be compared, got {0}")]
     SegmentTooShort(usize),
+    /// The computation was stopped (Ctrl-C) before it ended.
+    #[error("stopped before it ended")]
+    Stopped,
     /// The distance between two entries failed, which fails the whole sparseness.
     #[error("distance between the OOBs of tests {first} and {second}: {source}")]
     Pair {

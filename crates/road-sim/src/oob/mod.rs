@@ -39,5 +39,5 @@ pub use entry::{OobEntry, OobSummary, SbstTest};
 pub use error::OobError;
 pub use resample::resample;
 pub use segment::{interesting_segment, sbst_side, SbstSide};
-pub use sparseness::{sparseness, summary_csv, Sparseness};
-pub use summary::{entries, entry_of, summarise, summarise_tests};
+pub use sparseness::{bounded_sparseness, sparseness, summary_csv, Sparseness};
+pub use summary::{entries, entry_of, summarise, summarise_bounded, summarise_tests};

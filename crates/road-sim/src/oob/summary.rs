@@ -6,7 +6,8 @@ use super::entry::{OobEntry, OobSummary, SbstTest};
 use super::error::OobError;
 use super::resample::resample;
 use super::segment::{self, SbstSide};
-use super::sparseness::sparseness;
+use super::sparseness::{bounded_sparseness, sparseness, Sparseness};
+use std::sync::atomic::AtomicBool;
 
 /// The entry the pipeline makes of one test, or `None` when it skips the test.
 pub fn entry_of(test: &SbstTest) -> Option<OobEntry> {
@@ -46,7 +47,22 @@ pub fn entries(tests: &[SbstTest]) -> Vec<OobEntry> {
 /// The pipeline's summary of `entries`: fails as the pipeline does when an entry without a
 /// segment meets another.
 pub fn summarise(entries: &[OobEntry]) -> Result<OobSummary, OobError> {
-    let sparseness = sparseness(entries)?;
+    summary_of(entries, sparseness(entries)?)
+}
+
+/// [`summarise`] with its work bounded: the sides of every entry, the sparseness of at most
+/// [`EXACT_UP_TO`](super::sparseness::EXACT_UP_TO) of them ([`bounded_sparseness`], a sample
+/// drawn with `seed` above that); stopped early once `stop` is set.
+pub fn summarise_bounded(
+    entries: &[OobEntry],
+    seed: u64,
+    stop: Option<&AtomicBool>,
+) -> Result<OobSummary, OobError> {
+    summary_of(entries, bounded_sparseness(entries, seed, stop)?)
+}
+
+/// The summary of `entries` whose sparseness is `sparseness`.
+fn summary_of(entries: &[OobEntry], sparseness: Sparseness) -> Result<OobSummary, OobError> {
     let left = entries
         .iter()
         .filter(|e| e.side == Some(SbstSide::Left))
@@ -57,6 +73,7 @@ pub fn summarise(entries: &[OobEntry]) -> Result<OobSummary, OobError> {
         right: entries.len() - left,
         sparseness_mean: sparseness.mean,
         sparseness_sd: sparseness.sd,
+        sparseness_sample: sparseness.sample,
     })
 }
 

@@ -9,7 +9,7 @@
 //! Positive steering turns left.
 
 use crate::road::Point;
-use crate::setting_checks::{all_non_negative, all_positive, SettingsError};
+use crate::setting_checks::{all_within, SettingsError};
 use rapier3d::control::{DynamicRayCastVehicleController, WheelTuning};
 use rapier3d::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -79,28 +79,47 @@ impl Default for VehicleParams {
 }
 
 impl VehicleParams {
-    /// Names the first parameter no car can have.
+    /// Names the first parameter no car can have. Each has a range around a road car's (a
+    /// bicycle's mass to a lorry's, say) that keeps rapier's solver and the lane monitor in the
+    /// numbers they work with; the default car lies well inside every one.
     pub fn validate(&self) -> Result<(), SettingsError> {
-        let positive_values = [
-            ("length_m", self.length_m),
-            ("width_m", self.width_m),
-            ("mass_kg", self.mass_kg),
-            ("cg_to_front_axle_m", self.cg_to_front_axle_m),
-            ("cg_to_rear_axle_m", self.cg_to_rear_axle_m),
-            ("track_m", self.track_m),
-            ("wheel_radius_m", self.wheel_radius_m),
-            ("yaw_inertia_kg_m2", self.yaw_inertia_kg_m2),
-            ("max_drive_force_n", self.max_drive_force_n),
-            ("max_power_w", self.max_power_w),
-            ("max_brake_force_n", self.max_brake_force_n),
-            ("max_steering_rad", self.max_steering_rad),
-            ("max_steering_rate_rad_s", self.max_steering_rate_rad_s),
-            ("tyre_friction", self.tyre_friction),
-            ("side_friction_stiffness", self.side_friction_stiffness),
-            ("suspension_stiffness", self.suspension_stiffness),
-        ];
-        all_positive("vehicle.", &positive_values)?;
-        all_non_negative("vehicle.", &[("linear_damping", self.linear_damping)])
+        all_within(
+            "vehicle.",
+            &[
+                ("length_m", self.length_m, 0.5, 30.0),
+                ("width_m", self.width_m, 0.5, 5.0),
+                ("mass_kg", self.mass_kg, 10.0, 100_000.0),
+                ("cg_to_front_axle_m", self.cg_to_front_axle_m, 0.1, 15.0),
+                ("cg_to_rear_axle_m", self.cg_to_rear_axle_m, 0.1, 15.0),
+                ("track_m", self.track_m, 0.2, 5.0),
+                ("wheel_radius_m", self.wheel_radius_m, 0.05, 2.0),
+                ("yaw_inertia_kg_m2", self.yaw_inertia_kg_m2, 1.0, 1e7),
+                ("max_drive_force_n", self.max_drive_force_n, 1.0, 1e6),
+                ("max_power_w", self.max_power_w, 1.0, 1e8),
+                ("max_brake_force_n", self.max_brake_force_n, 1.0, 1e6),
+                ("max_steering_rad", self.max_steering_rad, 0.01, 1.5),
+                (
+                    "max_steering_rate_rad_s",
+                    self.max_steering_rate_rad_s,
+                    0.01,
+                    100.0,
+                ),
+                ("tyre_friction", self.tyre_friction, 0.01, 10.0),
+                (
+                    "side_friction_stiffness",
+                    self.side_friction_stiffness,
+                    0.01,
+                    100.0,
+                ),
+                (
+                    "suspension_stiffness",
+                    self.suspension_stiffness,
+                    1.0,
+                    1000.0,
+                ),
+                ("linear_damping", self.linear_damping, 0.0, 10.0),
+            ],
+        )
     }
 
     /// Distance between the axles, metres.

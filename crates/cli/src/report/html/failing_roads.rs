@@ -10,6 +10,12 @@ use serde_json::{json, Value};
 pub const CENTRE_LINE_STEP_M: f64 = 2.0;
 /// Most samples a trace keeps for the page (evenly taken, the last always kept).
 pub const TRACE_SAMPLES: usize = 400;
+/// Most points the page keeps of a failing road whose points make no road (too long, a point
+/// repeated): its recorded points thinned to [`CENTRE_LINE_STEP_M`], then evenly taken. Such a
+/// road has no length to count in the page's size bound, so what it carries must fit in its share
+/// of it, [`super::page::BYTES_PER_ROAD`], however many points the run recorded (at most 14 bytes
+/// a point, as on the map, leaves room for its row).
+pub const UNMADE_ROAD_POINTS: usize = 32;
 
 /// One failing road as the page shows it.
 #[derive(Debug, Clone)]
@@ -28,8 +34,8 @@ pub struct FailingRoad {
     pub side: Option<&'static str>,
     /// The road's centre-line length, metres (NaN when its points make no road).
     pub length_m: f64,
-    /// The centre line, thinned to [`CENTRE_LINE_STEP_M`] (the road's points when they make no
-    /// road).
+    /// The centre line, thinned to [`CENTRE_LINE_STEP_M`] (when the road's points make no road, at
+    /// most [`UNMADE_ROAD_POINTS`] of them).
     pub centre_line: Vec<Point>,
     /// Where the car's centre was when it left its lane, when the record says.
     pub exit: Option<[f64; 2]>,
@@ -68,7 +74,10 @@ pub fn failing_roads(groups: &[&[RunFile]]) -> Vec<FailingRoad> {
                         road.length_m(),
                         thinned(&road.interpolated, CENTRE_LINE_STEP_M),
                     ),
-                    Err(_) => (f64::NAN, points.clone()),
+                    Err(_) => (
+                        f64::NAN,
+                        evenly_taken(&thinned(points, CENTRE_LINE_STEP_M), UNMADE_ROAD_POINTS),
+                    ),
                 };
                 let oob = test.execution.result.oob.as_ref();
                 roads.push(FailingRoad {
@@ -108,6 +117,18 @@ pub fn thinned(line: &[Point], step_m: f64) -> Vec<Point> {
         }
     }
     kept
+}
+
+/// At most `most` of `points`, evenly spaced by index, the first and last always among them.
+fn evenly_taken(points: &[Point], most: usize) -> Vec<Point> {
+    if points.len() <= most {
+        return points.to_vec();
+    }
+    if most < 2 {
+        return points[..most].to_vec();
+    }
+    let last = points.len() - 1;
+    (0..most).map(|i| points[i * last / (most - 1)]).collect()
 }
 
 /// `value` rounded to `decimals` (what the page carries: centimetres are below what it draws).
@@ -160,6 +181,70 @@ mod tests {
         assert!(kept.windows(2).all(|w| (w[1][0] - w[0][0]) <= 2.0 + 1e-9));
         assert!(thinned(&[], 2.0).is_empty());
         assert_eq!(thinned(&[[1.0, 1.0]], 2.0), vec![[1.0, 1.0]]);
+    }
+
+    #[test]
+    fn even_taking_keeps_the_ends_and_at_most_so_many() {
+        let line: Vec<Point> = (0..=100).map(|i| [f64::from(i), 0.0]).collect();
+        let kept = evenly_taken(&line, 5);
+        assert_eq!(
+            kept,
+            vec![
+                [0.0, 0.0],
+                [25.0, 0.0],
+                [50.0, 0.0],
+                [75.0, 0.0],
+                [100.0, 0.0]
+            ]
+        );
+        assert_eq!(evenly_taken(&line[..3], 5), line[..3].to_vec());
+        assert_eq!(evenly_taken(&line, 1), vec![[0.0, 0.0]]);
+        assert!(evenly_taken(&line, 0).is_empty());
+    }
+
+    #[test]
+    fn a_million_points_that_make_no_road_fit_a_roads_share_of_the_page() {
+        // 31.8 km of points 3 cm apart: longer than any road (20 km), so no road.
+        let points: Vec<Point> = (0..1_000_000)
+            .map(|i| {
+                let i = f64::from(i);
+                [100.0 + 50.0 * (i * 0.001).sin(), 10.0 + i * 0.00018]
+            })
+            .collect();
+        assert!(Road::new(&points).is_err());
+        // A failing test of a fixture run, with those points.
+        let fixture = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../tests/fixtures/wogan.seed3.jsonl"
+        );
+        let mut record: Value = std::fs::read_to_string(fixture)
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str::<Value>(l).unwrap())
+            .find(|r| r["outcome"] == "FAIL")
+            .expect("a failing test");
+        record["road_points"] = json!(points);
+        let run = RunFile {
+            path: "run.jsonl".into(),
+            header: None,
+            tests: vec![serde_json::from_value(record).unwrap()],
+            beyond_budget: vec![],
+            train_ms: 0.0,
+            pipeline_invalid: 0,
+            summary: None,
+            problems: vec![],
+        };
+        let roads = failing_roads(&[std::slice::from_ref(&run)]);
+        assert_eq!(roads.len(), 1);
+        let road = &roads[0];
+        assert!(road.length_m.is_nan());
+        assert_eq!(road.centre_line.len(), UNMADE_ROAD_POINTS);
+        assert_eq!(road.centre_line.first(), points.first());
+        assert_eq!(road.centre_line.last(), points.last());
+        // The points a re-drive would drive are kept whole; only the page's line is bounded.
+        assert_eq!(road.road_points.len(), 1_000_000);
+        let json = road.to_json().to_string();
+        assert!(json.len() < 600, "{} bytes: {json}", json.len());
     }
 
     #[test]

@@ -2,14 +2,20 @@
 //! loads nothing) whose static parts read without scripts: the runs, the failing roads' table,
 //! and report.md's figures and pictures; the script sorts and filters the table and draws a
 //! road's detail when its row is chosen.
+//!
+//! Everything on it that comes from a file (labels, file names, errors, report.md's text) is text:
+//! escaped in elements and attributes, shown as text where report.md would have raw HTML, a link
+//! elsewhere than the web, the page or beside it, or a picture the report did not draw, and
+//! escaped in the roads' JSON so that no string can end or stall a script element.
 
 use super::failing_roads::{failing_roads, FailingRoad};
-use super::redrive::redrive_worst;
+use super::redrive::{redrive_worst, NotDrivenAgain};
 use crate::files::run_file::RunFile;
 use crate::report::markdown::GroupSection;
 use anyhow::{Context, Result};
 use base64::Engine;
-use pulldown_cmark::{Event, Options, Parser, Tag, TagEnd};
+use pulldown_cmark::{Event, LinkType, Options, Parser, Tag, TagEnd};
+use std::collections::HashSet;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -41,7 +47,7 @@ pub struct HtmlReport {
 
 /// Writes `out/report.html` from report.md's text `markdown` (its pictures read from `out`), the
 /// groups' sections and their runs (`groups`, in the same order). Returns its path and what could
-/// not be traced.
+/// not be driven again.
 pub fn write_html_report(
     out: &Path,
     markdown: &str,
@@ -49,11 +55,11 @@ pub fn write_html_report(
     groups: &[&[RunFile]],
     options: HtmlReport,
     stop: &AtomicBool,
-) -> Result<(PathBuf, Vec<String>)> {
+) -> Result<(PathBuf, NotDrivenAgain)> {
     let mut roads = failing_roads(groups);
     let not_traced = redrive_worst(&mut roads, groups, options.traces, stop);
-    let figures = markdown_html(markdown, out)?;
-    let page = page(sections, &roads, &figures, &not_traced);
+    let figures = markdown_html(markdown, out, &own_pictures(sections))?;
+    let page = page(sections, &roads, &figures, &not_traced.reasons);
     let path = out.join(FILE_NAME);
     std::fs::write(&path, page).with_context(|| format!("cannot write {}", path.display()))?;
     Ok((path, not_traced))
@@ -75,29 +81,70 @@ fn escaped(text: &str) -> String {
     out
 }
 
-/// report.md as HTML, its first heading left out (the page has its own) and each picture it
-/// names (an SVG file beside it) inlined as a data URL, so that the page needs no other file.
-fn markdown_html(markdown: &str, out: &Path) -> Result<String> {
+/// report.md as HTML, its first heading left out (the page has its own). Everything in it is text:
+/// raw HTML shows as its text, a link stays a link only to the web, the page or a file beside it
+/// ([`safe_link`]), and a picture is inlined as a data URL only when it is one of `pictures`, the
+/// files this report drew into `out`; any other picture report.md names (whatever a run's header
+/// put there) shows as its alt text.
+fn markdown_html(markdown: &str, out: &Path, pictures: &HashSet<&str>) -> Result<String> {
     let body = markdown
         .strip_prefix("# wogan report\n")
         .unwrap_or(markdown);
     let mut events = Vec::new();
+    // The picture being read (its file and alt text) and how deep in pictures the parser is (an
+    // alt text may hold pictures of its own, which are only text).
     let mut image: Option<(String, String)> = None;
+    let mut image_depth = 0usize;
+    // Whether each link open at this point was kept.
+    let mut links: Vec<bool> = Vec::new();
     for event in Parser::new_ext(body, Options::ENABLE_TABLES) {
+        if image_depth > 0 {
+            match event {
+                Event::Start(Tag::Image { .. }) => image_depth += 1,
+                Event::End(TagEnd::Image) => image_depth -= 1,
+                Event::Text(text)
+                | Event::Code(text)
+                | Event::InlineHtml(text)
+                | Event::Html(text) => {
+                    if let Some((_, alt)) = &mut image {
+                        alt.push_str(&text);
+                    }
+                }
+                _ => {}
+            }
+            if image_depth == 0 {
+                let (file, alt) = image.take().unwrap_or_default();
+                events.push(match picture(out, &file, &alt, pictures)? {
+                    Some(img) => Event::Html(img.into()),
+                    None => Event::Text(alt.into()),
+                });
+            }
+            continue;
+        }
         match event {
             Event::Start(Tag::Image { dest_url, .. }) => {
-                image = Some((dest_url.to_string(), String::new()))
+                image = Some((dest_url.to_string(), String::new()));
+                image_depth = 1;
             }
-            Event::End(TagEnd::Image) => {
-                let (file, alt) = image.take().unwrap_or_default();
-                events.push(Event::Html(picture(out, &file, &alt)?.into()));
-            }
-            Event::Text(text) if image.is_some() => {
-                if let Some((_, alt)) = &mut image {
-                    alt.push_str(&text);
+            Event::Start(Tag::Link {
+                link_type,
+                ref dest_url,
+                ..
+            }) => {
+                let kept = link_type != LinkType::Email && safe_link(dest_url);
+                links.push(kept);
+                if kept {
+                    events.push(event);
                 }
             }
-            _ if image.is_some() => {}
+            Event::End(TagEnd::Link) => {
+                if links.pop().unwrap_or(false) {
+                    events.push(event);
+                }
+            }
+            Event::Html(html) | Event::InlineHtml(html) => events.push(Event::Text(html)),
+            Event::Start(Tag::HtmlBlock) => events.push(Event::Start(Tag::Paragraph)),
+            Event::End(TagEnd::HtmlBlock) => events.push(Event::End(TagEnd::Paragraph)),
             event => events.push(event),
         }
     }
@@ -106,18 +153,59 @@ fn markdown_html(markdown: &str, out: &Path) -> Result<String> {
     Ok(html)
 }
 
-/// An `<img>` of the picture `file` (a file name beside report.md) as a data URL.
-fn picture(out: &Path, file: &str, alt: &str) -> Result<String> {
-    if file.contains(['/', '\\']) || !file.ends_with(".svg") {
-        anyhow::bail!("report.md names a picture outside its folder: {file}");
+/// Whether a link may stay a link on the page: to a place on it (`#…`), a file beside it (a
+/// relative path) or the web (`http:`, `https:`). Any other scheme (`javascript:`, `data:`,
+/// `vbscript:`, `file:`, …) could run a script or reach outside, so its link shows as its text.
+/// The URL is read as a browser reads it: tabs and line breaks anywhere dropped, leading spaces and
+/// control characters too (entities and escapes the Markdown parser has decoded already); a colon
+/// before any `/`, `?` or `#` ends a scheme.
+fn safe_link(url: &str) -> bool {
+    let url: String = url
+        .chars()
+        .filter(|c| !matches!(c, '\t' | '\n' | '\r'))
+        .collect();
+    let url = url.trim_start_matches(|c: char| c <= ' ');
+    match url.find([':', '/', '?', '#']) {
+        Some(end) if url[end..].starts_with(':') => {
+            let scheme = &url[..end];
+            scheme.eq_ignore_ascii_case("http") || scheme.eq_ignore_ascii_case("https")
+        }
+        _ => true,
     }
+}
+
+/// An `<img>` of `file` as a data URL when it is one of `pictures` (the report's own, beside
+/// report.md in `out`), else `None`.
+fn picture(out: &Path, file: &str, alt: &str, pictures: &HashSet<&str>) -> Result<Option<String>> {
+    if !pictures.contains(file) {
+        return Ok(None);
+    }
+    let mime = if file.ends_with(".svg") {
+        "image/svg+xml"
+    } else if file.ends_with(".png") {
+        "image/png"
+    } else {
+        return Ok(None);
+    };
     let path = out.join(file);
-    let svg = std::fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
-    let data = base64::engine::general_purpose::STANDARD.encode(svg);
-    Ok(format!(
-        "<img class=\"picture\" alt=\"{}\" src=\"data:image/svg+xml;base64,{data}\">",
+    let bytes = std::fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
+    let data = base64::engine::general_purpose::STANDARD.encode(bytes);
+    Ok(Some(format!(
+        "<img class=\"picture\" alt=\"{}\" src=\"data:{mime};base64,{data}\">",
         escaped(alt)
-    ))
+    )))
+}
+
+/// The names of the pictures this report drew into its folder, which alone the page inlines.
+fn own_pictures(sections: &[GroupSection]) -> HashSet<&str> {
+    sections
+        .iter()
+        .flat_map(|s| {
+            let p = &s.pictures;
+            [&p.roads, &p.bolp].into_iter().chain(&p.fitness)
+        })
+        .map(String::as_str)
+        .collect()
 }
 
 /// A number with `decimals`, or a dash.
@@ -262,22 +350,58 @@ fn failing_table(html: &mut String, roads: &[FailingRoad], traced: usize, not_tr
 }
 
 /// The groups' labels and the roads' geometry for the detail view, as JSON in a script element
-/// the browser does not run (`</` escaped so that no string closes it).
+/// the browser does not run ([`script_json`]: no string in it can end the element or change how
+/// the browser reads the rest of the page).
 fn road_data(html: &mut String, sections: &[GroupSection], roads: &[FailingRoad]) {
     let groups: Vec<&str> = sections.iter().map(|s| s.label.as_str()).collect();
     let roads: Vec<serde_json::Value> = roads.iter().map(FailingRoad::to_json).collect();
-    let json = serde_json::json!({ "groups": groups, "roads": roads })
-        .to_string()
-        .replace("</", "<\\/");
+    let json = script_json(&serde_json::json!({ "groups": groups, "roads": roads }).to_string());
     let _ = writeln!(
         html,
         "<script type=\"application/json\" id=\"road-data\">{json}</script>"
     );
 }
 
+/// JSON text made safe inside a `<script>` element: `<`, `>` and `&` as `\u003c`, `\u003e` and
+/// `\u0026` (so that neither `</script>` nor `<!--<script>`, which puts the browser's tokenizer in
+/// a state where the page's own script would be swallowed, can appear), and the line separators
+/// U+2028 and U+2029 escaped too. Those characters occur in JSON only inside strings, where the
+/// escapes mean the same characters.
+fn script_json(json: &str) -> String {
+    let mut out = String::with_capacity(json.len());
+    for c in json.chars() {
+        match c {
+            '<' => out.push_str("\\u003c"),
+            '>' => out.push_str("\\u003e"),
+            '&' => out.push_str("\\u0026"),
+            '\u{2028}' => out.push_str("\\u2028"),
+            '\u{2029}' => out.push_str("\\u2029"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::report::group::GroupFigures;
+    use crate::report::pictures::Pictures;
+
+    /// A scratch folder holding `p.svg`, the one picture the report drew, and `q.svg`, which it
+    /// did not.
+    fn folder(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("wogan-html-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("p.svg"), "<svg/>").unwrap();
+        std::fs::write(dir.join("q.svg"), "<svg/>").unwrap();
+        dir
+    }
+
+    /// report.md's `markdown` as the page shows it, `p.svg` the report's one picture.
+    fn shown(markdown: &str, dir: &Path) -> String {
+        markdown_html(markdown, dir, &HashSet::from(["p.svg"])).unwrap()
+    }
 
     #[test]
     fn text_is_escaped_for_elements_and_attributes() {
@@ -285,37 +409,138 @@ mod tests {
     }
 
     #[test]
-    fn pictures_are_inlined_and_one_outside_the_folder_is_refused() {
-        let dir = std::env::temp_dir().join(format!("wogan-html-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("p.svg"), "<svg/>").unwrap();
-        let html = markdown_html(
+    fn only_the_reports_own_pictures_are_inlined_and_any_other_is_its_alt_text() {
+        let dir = folder("pictures");
+        let html = shown(
             "# wogan report\n\n| a |\n|---|\n| 1 |\n\n![the map](p.svg)\n",
             &dir,
-        )
-        .unwrap();
+        );
         assert!(!html.contains("<h1>"), "{html}");
         assert!(html.contains("<table>"), "{html}");
         assert!(
             html.contains("alt=\"the map\" src=\"data:image/svg+xml;base64,PHN2Zy8+\""),
             "{html}"
         );
-        assert!(markdown_html("![x](../p.svg)\n", &dir).is_err());
-        assert!(markdown_html("![x](missing.svg)\n", &dir).is_err());
+        for (markdown, text) in [
+            ("![x](nothere.svg)\n", "<p>x</p>\n"),
+            ("![i](javascript:alert(1))\n", "<p>i</p>\n"),
+            ("![up](../p.svg)\n", "<p>up</p>\n"),
+            (
+                "![beside, not drawn](q.svg)\n",
+                "<p>beside, not drawn</p>\n",
+            ),
+            ("![a *b* `c`](/etc/passwd)\n", "<p>a b c</p>\n"),
+            ("![a ![b](p.svg) c](x.svg)\n", "<p>a b c</p>\n"),
+            ("![<img src=x>](x.svg)\n", "<p>&lt;img src=x&gt;</p>\n"),
+        ] {
+            assert_eq!(shown(markdown, &dir), text, "{markdown}");
+        }
+        // A picture the report drew must be there to be inlined.
+        std::fs::remove_file(dir.join("p.svg")).unwrap();
+        assert!(markdown_html("![m](p.svg)\n", &dir, &HashSet::from(["p.svg"])).is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
-    fn road_data_cannot_close_its_script_element() {
+    fn raw_html_shows_as_its_text() {
+        let dir = folder("raw-html");
+        for (markdown, text) in [
+            (
+                "a <img src=x onerror=\"document.title=1\"> b\n",
+                "<p>a &lt;img src=x onerror=\"document.title=1\"&gt; b</p>\n",
+            ),
+            (
+                "<script>alert(1)</script>\n",
+                "<p>&lt;script&gt;alert(1)&lt;/script&gt;\n</p>\n",
+            ),
+            (
+                "<!--<script>-->\n",
+                "<p>&lt;!--&lt;script&gt;--&gt;\n</p>\n",
+            ),
+            (
+                "- `<b>` <b>bold</b>\n",
+                "<ul>\n<li><code>&lt;b&gt;</code> &lt;b&gt;bold&lt;/b&gt;</li>\n</ul>\n",
+            ),
+        ] {
+            assert_eq!(shown(markdown, &dir), text, "{markdown}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn links_stay_links_only_to_the_web_the_page_and_files_beside_it() {
+        for url in [
+            "roads.g1.svg",
+            "#failing",
+            "http://example.org/a",
+            "HTTPS://example.org",
+            "a/b:c",
+            "?q=a:b",
+            "//example.org/x",
+            "",
+        ] {
+            assert!(safe_link(url), "{url:?}");
+        }
+        for url in [
+            "javascript:alert(1)",
+            "JaVaScRiPt:alert(1)",
+            " javascript:alert(1)",
+            "\u{1}javascript:alert(1)",
+            "java\tscript:alert(1)",
+            "java\nscript:alert(1)",
+            "data:text/html,<script>alert(1)</script>",
+            "vbscript:msgbox",
+            "file:///etc/passwd",
+            "mailto:a@b.c",
+            "http\u{a0}:x",
+        ] {
+            assert!(!safe_link(url), "{url:?}");
+        }
+        let dir = folder("links");
+        for (markdown, text) in [
+            ("[x](javascript:alert(1))\n", "<p>x</p>\n"),
+            ("[x](&#106;avascript:alert(1))\n", "<p>x</p>\n"),
+            ("[x](<java\\script:alert(1)>)\n", "<p>x</p>\n"),
+            ("<javascript:alert(1)>\n", "<p>javascript:alert(1)</p>\n"),
+            ("<a@b.c>\n", "<p>a@b.c</p>\n"),
+            ("[r]: javascript:alert(1)\n\n[x][r]\n", "<p>x</p>\n"),
+            (
+                "[map](roads.g1.svg) [top](#runs) [web](https://example.org)\n",
+                "<p><a href=\"roads.g1.svg\">map</a> <a href=\"#runs\">top</a> \
+                 <a href=\"https://example.org\">web</a></p>\n",
+            ),
+        ] {
+            assert_eq!(shown(markdown, &dir), text, "{markdown}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn road_data_cannot_end_its_script_element_nor_stall_the_page_script() {
+        let label = "`<!--<script>` </script> & \u{2028}\u{2029} '\"";
+        let section = GroupSection {
+            label: label.to_owned(),
+            files: vec![],
+            figures: GroupFigures::of(&[]),
+            pictures: Pictures {
+                roads: "roads.g1.svg".into(),
+                bolp: "bolp.g1.svg".into(),
+                fitness: vec![],
+            },
+        };
         let mut html = String::new();
-        road_data(&mut html, &[], &[]);
-        assert_eq!(
-            html,
-            "<script type=\"application/json\" id=\"road-data\">{\"groups\":[],\"roads\":[]}</script>\n"
+        road_data(&mut html, &[section], &[]);
+        let start = "<script type=\"application/json\" id=\"road-data\">";
+        let json = html
+            .strip_prefix(start)
+            .and_then(|h| h.strip_suffix("</script>\n"))
+            .expect("one element");
+        assert!(
+            !json.contains(['<', '>', '&', '\u{2028}', '\u{2029}']),
+            "{json}"
         );
-        let text = serde_json::Value::String("</script>".into())
-            .to_string()
-            .replace("</", "<\\/");
-        assert_eq!(text, "\"<\\/script>\"");
+        let value: serde_json::Value = serde_json::from_str(json).unwrap();
+        assert_eq!(value["groups"][0], label);
+        assert_eq!(value["roads"], serde_json::json!([]));
     }
 }

@@ -1,27 +1,40 @@
 //! `wogan report --html --traces N`: the N failing roads of highest BOLP driven again with the
 //! driver their run recorded, traced, so that the page can show the car's path and its BOLP along
 //! the drive. Only a built-in driver is driven again (wogan never starts a command or loads a
-//! model a file names), with the simulation and driver settings of the run's header; a drive
-//! whose outcome now differs from the recorded one is shown as it went now, and said so.
+//! model a file names, and an executor's run was driven by the executor), with the simulation and
+//! driver settings of the run's header, checked as a `--config` file's are
+//! ([`RunHeader::drive_settings`](crate::files::run_file::RunHeader::drive_settings)); a drive
+//! whose outcome now differs from the recorded one is shown as it went now, and said so. A drive
+//! that Ctrl-C stopped is no outcome: it is not shown, and the page says how many were stopped.
 
 use super::failing_roads::{FailingRoad, RoadTrace, TRACE_SAMPLES};
 use crate::files::run_file::RunFile;
-use crate::options::config_file::lay_over;
-use crate::options::driver_options::driver_config;
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use road_sim::{simulate, DriverConfig, Road, Sample, SimConfig};
-use std::sync::atomic::AtomicBool;
+use road_sim::{simulate, DriverConfig, DriverKind, Road, Sample, SimConfig, StopReason};
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// What could not be driven again, as stderr and the page say it.
+#[derive(Debug, Default)]
+pub struct NotDrivenAgain {
+    /// Why, once for each run whose roads were not driven (its file first) and once for each
+    /// road that failed on its own.
+    pub reasons: Vec<String>,
+    /// Runs whose header holds settings no run is made with: bad inputs, as the exit status says.
+    pub bad_headers: usize,
+}
 
 /// Drives again the `count` roads of `roads` of highest max BOLP (ties: the earlier first) whose
-/// runs (`groups[road.group][road.run]`) recorded a built-in driver, and keeps their traces.
-/// Returns, for each road that could not be driven again, why (the page says it).
+/// runs (`groups[road.group][road.run]`) recorded a built-in driver, and keeps their traces. Each
+/// run's settings are read from its header once; a run whose settings cannot be used has none of
+/// its roads driven, and is named once.
 pub fn redrive_worst(
     roads: &mut [FailingRoad],
     groups: &[&[RunFile]],
     count: usize,
     stop: &AtomicBool,
-) -> Vec<String> {
+) -> NotDrivenAgain {
     let mut order: Vec<usize> = (0..roads.len()).collect();
     order.sort_by(|&a, &b| {
         roads[b]
@@ -30,53 +43,133 @@ pub fn redrive_worst(
             .then(a.cmp(&b))
     });
     order.truncate(count);
-    let traced: Vec<(usize, Result<RoadTrace>)> = order
-        .par_iter()
-        .map(|&index| {
-            let road = &roads[index];
+    let mut not_driven = NotDrivenAgain::default();
+    // Each run's settings, read once, for the runs of the roads asked for.
+    let mut settings: BTreeMap<(usize, usize), Option<Settings>> = BTreeMap::new();
+    for &index in &order {
+        let road = &roads[index];
+        settings.entry((road.group, road.run)).or_insert_with(|| {
             let run = &groups[road.group][road.run];
-            let trace = redrive(road, run, stop)
-                .with_context(|| format!("{} test {}: not driven again", road.run_file, road.test));
-            (index, trace)
+            match run_settings(run) {
+                Ok(settings) => Some(settings),
+                Err(refusal) => {
+                    let reason = match &refusal {
+                        Refusal::BadHeader(error) => {
+                            not_driven.bad_headers += 1;
+                            error
+                        }
+                        Refusal::NotDrivable(error) => error,
+                    };
+                    not_driven
+                        .reasons
+                        .push(format!("{}: not driven again: {reason:#}", road.run_file));
+                    None
+                }
+            }
+        });
+    }
+    // `None`: not driven, or the drive did not end (Ctrl-C); it is no result to show.
+    let traced: Vec<(usize, Option<Result<RoadTrace>>)> = order
+        .par_iter()
+        .filter_map(|&index| {
+            let road = &roads[index];
+            let settings = settings.get(&(road.group, road.run))?.as_ref()?;
+            let trace = redrive(road, settings, stop).transpose().map(|trace| {
+                trace.with_context(|| {
+                    format!("{} test {}: not driven again", road.run_file, road.test)
+                })
+            });
+            Some((index, trace))
         })
         .collect();
-    let mut problems = Vec::new();
+    let mut cut_short = 0;
     for (index, trace) in traced {
         match trace {
-            Ok(trace) => roads[index].trace = Some(trace),
-            Err(error) => problems.push(format!("{error:#}")),
+            Some(Ok(trace)) => roads[index].trace = Some(trace),
+            Some(Err(error)) => not_driven.reasons.push(format!("{error:#}")),
+            None => cut_short += 1,
         }
     }
-    problems
+    if cut_short > 0 {
+        not_driven.reasons.push(format!(
+            "{cut_short} of the {} roads asked for were not driven again: Ctrl-C or SIGTERM \
+             stopped the drives",
+            order.len()
+        ));
+    }
+    not_driven
 }
 
-/// Drives `road` again as `run` recorded it.
-fn redrive(road: &FailingRoad, run: &RunFile, stop: &AtomicBool) -> Result<RoadTrace> {
-    let header = run.header.as_ref().context("the run has no header")?;
+/// What a run's roads are driven again with: its driver's name and settings.
+struct Settings {
+    /// The driver, as the trace names it.
+    driver: DriverKind,
+    /// The simulation's settings.
+    sim: SimConfig,
+    /// The driver's settings.
+    config: DriverConfig,
+}
+
+/// Why a run's roads are not driven again.
+enum Refusal {
+    /// The header holds what no run is made with (no header, settings out of range).
+    BadHeader(anyhow::Error),
+    /// The run is sound but wogan cannot drive it: a controller, a camera network, an executor.
+    NotDrivable(anyhow::Error),
+}
+
+/// The settings `run` recorded, checked as a `--config` file's are.
+fn run_settings(run: &RunFile) -> Result<Settings, Refusal> {
+    let header = run
+        .header
+        .as_ref()
+        .ok_or_else(|| Refusal::BadHeader(anyhow::anyhow!("the run has no header")))?;
     let kind = header.driver;
-    if DriverConfig::built_in(kind).is_none() {
-        anyhow::bail!("its driver ({kind}) is not built into wogan");
+    if let Some(why) = header.executor_run() {
+        return Err(Refusal::NotDrivable(anyhow::anyhow!(why)));
     }
-    let sim = lay_over::<SimConfig>(header.config.get("sim"), SimConfig::default(), "config.sim")
-        .context("the run's header")?;
-    let driver = driver_config(
-        kind,
-        None,
-        None,
-        header.config.get("driver"),
-        None,
-        "config.driver",
-    )
-    .context("the run's header")?;
+    if DriverConfig::built_in(kind).is_none() {
+        return Err(Refusal::NotDrivable(anyhow::anyhow!(
+            "its driver ({kind}) is not built into wogan"
+        )));
+    }
+    let (sim, config) = header.drive_settings(None).map_err(Refusal::BadHeader)?;
+    Ok(Settings {
+        driver: kind,
+        sim,
+        config,
+    })
+}
+
+/// Drives `road` again with its run's `settings`; `None` when Ctrl-C or SIGTERM came before the
+/// drive ended (or before it began).
+fn redrive(
+    road: &FailingRoad,
+    settings: &Settings,
+    stop: &AtomicBool,
+) -> Result<Option<RoadTrace>> {
+    if stop.load(Ordering::SeqCst) {
+        return Ok(None);
+    }
     let geometry = Road::new(&road.road_points).map_err(|error| anyhow::anyhow!("{error}"))?;
-    let mut result = simulate(&geometry, driver.build().as_mut(), &sim, true, Some(stop));
+    let mut result = simulate(
+        &geometry,
+        settings.config.build().as_mut(),
+        &settings.sim,
+        true,
+        Some(stop),
+    );
+    if result.reason == Some(StopReason::Interrupted) || stop.load(Ordering::SeqCst) {
+        // Stopped, not ended: the driver's ERROR would be no outcome of the road.
+        return Ok(None);
+    }
     let samples = result.trace.take().unwrap_or_default();
-    Ok(RoadTrace {
-        driver: kind.to_string(),
+    Ok(Some(RoadTrace {
+        driver: settings.driver.to_string(),
         outcome: result.outcome.name().to_owned(),
         max_bolp: result.max_bolp,
         samples: kept_samples(&samples, TRACE_SAMPLES),
-    })
+    }))
 }
 
 /// At most `most` of `samples`, evenly taken, the last always kept: time, x, y, BOLP.

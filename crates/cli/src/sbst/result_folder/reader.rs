@@ -87,6 +87,7 @@ pub fn read_result_folder(dir: &Path) -> Result<RunFile> {
         error: ending
             .crashed
             .map(|exception| format!("the generator crashed: {exception}")),
+        executor: None,
     };
     Ok(RunFile {
         path: dir.to_path_buf(),

@@ -8,7 +8,6 @@ use crate::files::run_file::{RunFile, RunHeader};
 use crate::files::sbst_format::{
     description, execution_data, test_file_number, CompetitionTest, Features,
 };
-use crate::options::driver_options::driver_config;
 use crate::sbst::metrics::{oob_summary, GenerationStats};
 use anyhow::{bail, Context, Result};
 use road_sim::{simulate, DriverConfig, Road, SimConfig, SimResult, Validator};
@@ -82,15 +81,11 @@ struct Replay {
 }
 
 impl Replay {
-    /// The settings of the run `header` describes; `weights` are the DAVE-2 weights it used when
-    /// not the built-in ones.
+    /// The settings of the run `header` describes, checked as every source of settings is
+    /// ([`RunHeader::drive_settings`]); `weights` are the DAVE-2 weights it used when not the
+    /// built-in ones.
     fn of(header: &RunHeader, weights: Option<&Path>) -> Result<Self> {
-        let sim = header.config.get("sim").cloned().unwrap_or_default();
-        let sim: SimConfig = serde_path_to_error::deserialize(sim).map_err(|e| {
-            anyhow::anyhow!("the run's header: config.sim.{}: {}", e.path(), e.inner())
-        })?;
-        let tuning = header.config.get("driver");
-        let driver = driver_config(header.driver, None, None, tuning, weights, "config.driver")?;
+        let (sim, driver) = header.drive_settings(weights)?;
         Ok(Self { sim, driver })
     }
 

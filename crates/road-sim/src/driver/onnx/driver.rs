@@ -10,7 +10,7 @@ use super::preprocessing::{ColourSpace, PixelScaling, Preprocessor};
 use super::throttle::{CompetitionThrottle, ThrottleRule};
 use crate::driver::pedals::pedals;
 use crate::road::Road;
-use crate::setting_checks::{all_non_negative, all_within, SettingsError};
+use crate::setting_checks::{all_within, SettingsError};
 use crate::sim::{Command, Driver, Observation, VehicleParams};
 use crate::vision::{Camera, Frame, RoadScene};
 use serde::{Deserialize, Serialize};
@@ -155,12 +155,12 @@ impl OnnxParams {
                 ("camera.forward_m", c.forward_m, -5.0, 5.0),
             ],
         )?;
-        all_non_negative(
+        all_within(
             "driver.",
             &[
-                ("throttle_gain", self.throttle_gain),
-                ("brake_gain", self.brake_gain),
-                ("brake_deadband_mps", self.brake_deadband_mps),
+                ("throttle_gain", self.throttle_gain, 0.0, 100.0),
+                ("brake_gain", self.brake_gain, 0.0, 100.0),
+                ("brake_deadband_mps", self.brake_deadband_mps, 0.0, 100.0),
             ],
         )
     }
