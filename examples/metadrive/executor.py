@@ -3,16 +3,18 @@
 headless, no GPU, no assets): `wogan run --executor cmd:"PYTHON executor.py --policy idm"`.
 
 It is a `wogan.Executor` (the `wogan` Python package, python/README.md), which speaks the executor
-protocol, version 2 (wogan's docs/reference.md, "Plug points: your own simulator"): JSON lines on
-standard input (`hello`, one `road` per test, `bye`), one answer line per road on standard output,
-nothing else there (MetaDrive's own output goes to standard error with the logs). Set up by
-`examples/metadrive/setup.sh`, which makes `target/metadrive-venv`.
+protocol, version 3 (wogan's docs/reference.md, "Plug points: your own simulator"): JSON lines on
+standard input (`hello`, one `road` per test, `bye`), on standard output one reply to `hello` (the
+executor's name and its settings: policy, speed limit, tolerance, MetaDrive's version...) and one
+answer line per road, nothing else there (MetaDrive's own output goes to standard error with the
+logs). Set up by `examples/metadrive/setup.sh`, which makes `target/metadrive-venv`.
 
 The road, as wogan's simulator has it (crates/road-sim/src):
 - The centre line is the competition's spline through `road_points` (FITPACK's `splprep(s=0)`, a
   line through 2 points, a parabola through 3, the not-a-knot cubic through more), sampled about
   every metre and rounded to 3 decimals (road/spline.rs). The road is two 4 m lanes either side of
-  it (road/geometry.rs); the car drives in the right one.
+  it (road/geometry.rs; `--lane-width` makes them narrower or wider); the car drives in the right
+  one.
 - The car starts at rest on the right lane's centre 2.5 m along the centre line from the first
   point, heading along the road (sim/config.rs `start_offset_m`, sim/episode.rs `start_pose`).
 
@@ -88,7 +90,7 @@ sys.path.append(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "
 import wogan  # noqa: E402
 
 # wogan's road and episode (crates/road-sim/src); the competition's numbers where wogan took them.
-ROAD_WIDTH_M = 8.0  # road/geometry.rs ROAD_WIDTH_M
+ROAD_WIDTH_M = 8.0  # road/geometry.rs ROAD_WIDTH_M (`--lane-width` sets both)
 LANE_WIDTH_M = ROAD_WIDTH_M / 2.0  # road/geometry.rs LANE_WIDTH_M
 INTERPOLATION_DISTANCE_M = 1.0  # road/spline.rs INTERPOLATION_DISTANCE_M
 MIN_SAMPLES = 20  # road/spline.rs MIN_SAMPLES
@@ -366,6 +368,7 @@ class LaneMonitor:
     _timeout_s: float = 0.0
 
     def __post_init__(self) -> None:
+        self.min_lane_distance_m = LANE_WIDTH_M / 2.0  # the lane of `--lane-width`
         self._right_edge = self.road.offset_line(-ROAD_WIDTH_M / 2.0)
         self._lead_in = lead_in_points(self.road, self._right_edge)
         self._timeout_s = timeout_s(self.road)
@@ -661,10 +664,12 @@ class ExecutionData:
 class MetaDriveDriver:
     """One MetaDrive (`ScenarioOnlineEnv`) for many roads, rebuilt after a fault."""
 
-    def __init__(self, policy: str, speed_limit_kmh: float, tolerance: float) -> None:
+    def __init__(self, policy: str, speed_limit_kmh: float, tolerance: float,
+                 wheel_friction: Optional[float] = None) -> None:
         self.policy = policy
         self.speed_limit_kmh = speed_limit_kmh
         self.tolerance = tolerance
+        self.wheel_friction = wheel_friction
         self.env: Any = None
         self._on_sample: Optional[Callable[[], None]] = None
         self._roads = 0
@@ -678,8 +683,6 @@ class MetaDriveDriver:
             vehicle_config.update(lidar=dict(num_lasers=0, distance=50, num_others=0),
                                   side_detector=dict(num_lasers=0, distance=50),
                                   lane_line_detector=dict(num_lasers=0, distance=20))
-            if self.speed_limit_kmh > 80.0:  # MetaDrive's car stops accelerating at 80 km/h
-                vehicle_config["max_speed_km_h"] = self.speed_limit_kmh
         else:
             policy = make_expert_policy(self.speed_limit_kmh)
             # The expert's observation (numpy_expert.py expert_obs_cfg) with its navigation part.
@@ -691,6 +694,20 @@ class MetaDriveDriver:
             store_map=False, horizon=None, log_level=logging.WARNING,
             vehicle_config=vehicle_config,
         )
+
+    def _set_car(self, car: Any) -> None:
+        """The car's tyres and top speed, set on the car itself: they are parameters of MetaDrive's
+        vehicle (its PARAMETER_SPACE), which `vehicle_config` refuses, and the tyres' friction is
+        read only when the wheels are made, so the wheels are given it here, at every road."""
+        if self.wheel_friction is not None:  # MetaDrive's car: 0.9
+            car.config["wheel_friction"] = self.wheel_friction
+            for wheel in car.wheels:
+                wheel.setFrictionSlip(self.wheel_friction)
+        # MetaDrive's car stops accelerating at 80 km/h (its `max_speed_km_h`); above that the speed
+        # limit is its top speed. The expert's observation gives its speed as a share of the top
+        # speed, so above 80 km/h it reads a lower share than it was trained on.
+        if self.speed_limit_kmh > 80.0:
+            car.config["max_speed_km_h"] = self.speed_limit_kmh
 
     def start(self) -> None:
         """Starts MetaDrive. `ScenarioOnlineEnv` reads a data directory holding one scenario when it
@@ -747,6 +764,7 @@ class MetaDriveDriver:
         env.set_scenario(ScenarioDescription(scenario))
         env.reset()
         car = env.agent
+        self._set_car(car)
         monitor = LaneMonitor(road, float(car.LENGTH), float(car.WIDTH), self.tolerance)
         dt = float(env.config["physics_world_step_size"])
         steps = [0]
@@ -782,11 +800,17 @@ class MetaDriveDriver:
 # ----------------------------------------------------------------------------------------------
 
 class MetaDriveExecutor(wogan.Executor):
-    """Drives each road wogan sends in one MetaDrive, started again after a fault."""
+    """Drives each road wogan sends in one MetaDrive, started again after a fault. MetaDrive starts
+    at the first road (and again after a fault): that road's drive, and wogan's timeout for it,
+    include the start."""
 
-    def __init__(self, policy: str, wall_timeout_s: float, execution_data: bool = False) -> None:
+    name = "wogan-metadrive-executor"
+
+    def __init__(self, policy: str, wall_timeout_s: float, execution_data: bool = False,
+                 wheel_friction: Optional[float] = None) -> None:
         super().__init__()
         self.policy = policy
+        self.wheel_friction = wheel_friction
         self.execution_data = execution_data
         self.wall_timeout_s = wall_timeout_s
         self.speed_limit_kmh = DEFAULT_SPEED_LIMIT_KMH
@@ -803,6 +827,13 @@ class MetaDriveExecutor(wogan.Executor):
         log.info("hello: speed limit %.1f km/h, tolerance %.3f, policy %s",
                  self.speed_limit_kmh, self.tolerance, self.policy)
 
+    def reported_settings(self) -> dict:
+        """What the reply to `hello` says of this executor's settings."""
+        return {"simulator": f"metadrive-simulator {_metadrive_version()}", "policy": self.policy,
+                "speed_limit_kmh": self.speed_limit_kmh, "oob_tolerance": self.tolerance,
+                "road_wall_timeout_s": self.wall_timeout_s, "execution_data": self.execution_data,
+                "wheel_friction": self.wheel_friction, "lane_width_m": LANE_WIDTH_M}
+
     def drive(self, road: wogan.Road) -> wogan.Answer:
         if self.broken:
             self.restart_driver()
@@ -813,7 +844,7 @@ class MetaDriveExecutor(wogan.Executor):
             return wogan.Answer(max_bolp=0.0, outcome="ERROR", sim_time_s=0.0,
                                 error=f"road cannot be built: {error}", extra={"policy": self.policy})
         if self.driver is None:
-            self.driver = MetaDriveDriver(self.policy, self.speed_limit_kmh, self.tolerance)
+            self.driver = MetaDriveDriver(self.policy, self.speed_limit_kmh, self.tolerance, self.wheel_friction)
         previous = signal.signal(signal.SIGALRM, _on_alarm)
         signal.setitimer(signal.ITIMER_REAL, self.wall_timeout_s)
         try:
@@ -861,6 +892,15 @@ class MetaDriveExecutor(wogan.Executor):
             self.driver = None
 
 
+def _metadrive_version() -> str:
+    """The installed metadrive-simulator's version ("unknown" when it is not installed)."""
+    try:
+        from importlib.metadata import version
+        return version("metadrive-simulator")
+    except Exception:  # noqa: BLE001 - not installed, or no metadata
+        return "unknown"
+
+
 def _on_alarm(signum: int, frame: Any) -> None:
     raise WallTimeout()
 
@@ -882,6 +922,13 @@ def fault_injection(road_id: int) -> bool:
     return kind == "exception"
 
 
+def set_lane_width(metres: float) -> None:
+    """Each lane `metres` wide (`--lane-width`): the road, the start, the lane monitor and the
+    expert's navigation all read these two."""
+    global LANE_WIDTH_M, ROAD_WIDTH_M
+    LANE_WIDTH_M, ROAD_WIDTH_M = float(metres), 2.0 * float(metres)
+
+
 def _on_terminate(signum: int, frame: Any) -> None:
     raise SystemExit(128 + signum)
 
@@ -897,6 +944,12 @@ def main(argv: Optional[list] = None) -> int:
                         help="answers also carry the drive as the SBST pipeline records it "
                              "(`execution_data`, as `wogan simulate --execution-data`), for "
                              "scripts/peers; wogan ignores it")
+    parser.add_argument("--wheel-friction", type=float, default=None, metavar="F",
+                        help="the tyres' friction, Bullet's friction slip of the wheels (MetaDrive's car: "
+                             "0.9; lower is more slippery); MetaDrive's own when absent")
+    parser.add_argument("--lane-width", type=float, default=LANE_WIDTH_M, metavar="M",
+                        help="the width of each of the road's two lanes, metres (default 4, the "
+                             "competition's and wogan's); BOLP is measured against it")
     parser.add_argument("--log-level", default="INFO", help="of the log on standard error")
     args = parser.parse_args(argv)
 
@@ -904,7 +957,12 @@ def main(argv: Optional[list] = None) -> int:
                         format="[metadrive-executor %(process)d] %(levelname)s %(message)s")
     signal.signal(signal.SIGTERM, _on_terminate)
     signal.signal(signal.SIGINT, _on_terminate)
-    executor = MetaDriveExecutor(args.policy, args.road_wall_timeout, args.execution_data)
+    if args.wheel_friction is not None and not 0.0 < args.wheel_friction <= 10.0:
+        parser.error(f"--wheel-friction: {args.wheel_friction} is not above 0 and at most 10")
+    if not 2.5 <= args.lane_width <= 6.0:  # MetaDrive's car is 1.85 m wide
+        parser.error(f"--lane-width: {args.lane_width} is not within 2.5 and 6 m")
+    set_lane_width(args.lane_width)
+    executor = MetaDriveExecutor(args.policy, args.road_wall_timeout, args.execution_data, args.wheel_friction)
     try:
         # Standard output carries the protocol only: serve() keeps it for that, and sends whatever
         # else writes there (MetaDrive, Panda3D, print) to standard error. When wogan closes the
