@@ -42,6 +42,31 @@ def every_core_section():
     saved_bench_section("Every core (`--jobs`)", "scripts/bench/parallel_bench.sh", "parallel")
 
 
+def ray_section():
+    saved_bench_section("Ray", "scripts/bench/ray_bench.sh", "ray")
+    out()
+    out("The sleeping pools are driven through the executor protocol by the script itself, as wogan "
+        "drives an executor (hello, then up to `roads_at_once` roads in flight, matched by id): the "
+        "clock runs from the reply to hello (the actors started) to the last answer; the dispatch "
+        "overhead is the wall time of a road per actor (wall x actors / roads) minus the 1 s sleep. "
+        "Each pool is a private Ray (`--address local`, `--actor-cpus 0.05`) in a loopback-only "
+        "network namespace. The MetaDrive pair runs the same 60 roads both ways (same outcomes); "
+        "Ray's start, paid once per run, is in its time, and on 2 shared cores the two ways are "
+        "within the machine's noise of each other.")
+
+
+def report_section():
+    saved_bench_section("`wogan report` on large runs", "scripts/bench/report_bench.sh", "report")
+    out()
+    out("Each copy of a seeded run's failing tests is turned about the map's centre by its own "
+        "angle, so that no two lane exits are alike. Before the measures were bounded (the "
+        "hostile-input report of 2026-11-29, at commit 5cb33d3), 5,000 such tests took 138 s and "
+        "100,000 wrote nothing in 600 s: the competition's OOB sparseness compares every pair. It "
+        "now measures every pair up to 1,000 OOBs and a seeded sample of 1,000 above, distinct "
+        "failures a seeded 20,000, the diversity 1,000,000 seeded pairs (docs/reference.md, "
+        "`wogan report`); what is left grows with the run's size (reading, building each road).")
+
+
 def campaigns_section():
     saved_bench_section("Campaigns", "scripts/bench/campaign_bench.sh", "campaigns")
 

@@ -10,12 +10,15 @@ from benches import (
     criterion,
     every_core_section,
     plug_points_section,
+    ray_section,
+    report_section,
 )
 from common import lines, split
 from field import field_section
 from generator import generator_section
 from keras_loop import keras_section
 from metadrive import metadrive_section
+from metadrive_calibration import metadrive_calibration_section
 from reference_roads import fidelity_section, long_roads_section, reference_roads_section
 from sbst import sbst_section
 from sbst_preset import sbst_preset_section
@@ -44,13 +47,16 @@ def sections(bench):
         ("field", field_section),
         ("sbst-preset", sbst_preset_section),
         ("metadrive", metadrive_section),
+        ("metadrive-calibration", metadrive_calibration_section),
         ("keras", keras_section),
         ("generator", generator_section),
         ("ci", ci_section),
         ("plug-points", plug_points_section),
         ("rounds", rounds_section),
         ("every-core", every_core_section),
+        ("ray", ray_section),
         ("campaigns", campaigns_section),
+        ("report", report_section),
         ("reference-roads", reference_roads),
         ("long-roads", long_roads_section),
         ("fidelity", fidelity_section),
