@@ -170,8 +170,8 @@ fn parallel_campaign_runs_resumes_and_reports_as_one_folder() {
     assert_eq!(runs_of(&table, "wogan / beamng-ai-proxy"), "2");
     assert_eq!(runs_of(&table, "wogan / controller"), "1");
     assert!(
-        table.contains("broken.controller.1.jsonl.part`: failed part-way")
-            && table.contains("tiny.random.2.jsonl.part`: truncated: no summary record"),
+        table.contains("broken.controller.1.jsonl.part: failed part-way")
+            && table.contains("tiny.random.2.jsonl.part: truncated: no summary record"),
         "{table}"
     );
 
