@@ -181,6 +181,17 @@ fn a_faulty_executor_fails_one_road_and_is_restarted_for_the_next() {
                 assert_eq!(test["outcome"], "PASS", "{mode}: {test}");
             }
         }
+        if mode == "ansi" {
+            // The report lists the ERROR test with its message, as text (issue 72).
+            let report = dir.join("report");
+            let made = wogan(&["report", arg(&out), "--out", arg(&report), "--html"], "");
+            assert_eq!(made.status.code(), Some(0), "{}", String::from_utf8_lossy(&made.stderr));
+            let markdown = std::fs::read_to_string(report.join("report.md")).expect("report.md");
+            assert!(markdown.contains("1 test(s) ended in ERROR"), "{markdown}");
+            assert!(markdown.contains(&format!(" test {bad}: error: road {bad}: ")), "{markdown}");
+            let page = std::fs::read_to_string(report.join("report.html")).expect("report.html");
+            assert!(page.contains("ended in ERROR") && !page.contains('\u{1b}'), "{page}");
+        }
     }
 }
 

@@ -23,6 +23,30 @@ pub struct GroupSection {
     pub figures: GroupFigures,
     /// The group's pictures.
     pub pictures: Pictures,
+    /// Its tests that ended in ERROR, the first [`ERROR_TESTS_LISTED`] of them.
+    pub error_tests: Vec<ErrorTest>,
+    /// How many of its tests ended in ERROR in all.
+    pub error_total: usize,
+}
+
+/// Most ERROR tests a group's section lists (the rest are counted).
+pub const ERROR_TESTS_LISTED: usize = 20;
+
+/// Longest error message a listed ERROR test shows, characters (an executor's stderr tail is
+/// longer; the run file holds it whole).
+const ERROR_MESSAGE_CHARS: usize = 400;
+
+/// A test that ended in ERROR, as its group's section lists it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ErrorTest {
+    /// The run file.
+    pub file: String,
+    /// The test's id.
+    pub test: usize,
+    /// Why the drive did not pass (`error`, `timeout`, ...), when recorded.
+    pub reason: Option<String>,
+    /// What the driver, controller or executor said, when recorded.
+    pub message: Option<String>,
 }
 
 /// `text`, a string from a file, as Markdown text that shows as itself: the characters that make
@@ -206,6 +230,40 @@ const COMPETITION_COMPARED: [usize; 6] = [4, 5, 6, 7, 9, 11];
 const DISTINCT_FAILURES: &str = "distinct failures (failing roads ≥ δ apart around the lane exit; \
      runs that record where the car left its lane)";
 
+/// The group's ERROR tests with their reason and message, or nothing when there are none.
+fn error_tests(section: &GroupSection) -> String {
+    if section.error_total == 0 {
+        return String::new();
+    }
+    let mut text = format!(
+        "\n{} test(s) ended in ERROR (the driver under test or the simulator failed, not the road):\n\n",
+        section.error_total
+    );
+    for test in &section.error_tests {
+        let reason = test.reason.as_deref().unwrap_or("error");
+        let message = test.message.as_deref().map_or_else(String::new, |m| {
+            let cut: String = m.chars().take(ERROR_MESSAGE_CHARS).collect();
+            let more = if cut.len() < m.len() { " …" } else { "" };
+            format!(": {}{more}", literal(&cut))
+        });
+        let _ = writeln!(
+            text,
+            "- {} test {}: {}{message}",
+            literal(&test.file),
+            test.test,
+            literal(reason)
+        );
+    }
+    if section.error_total > section.error_tests.len() {
+        let _ = writeln!(
+            text,
+            "- and {} more (the run files hold each)",
+            section.error_total - section.error_tests.len()
+        );
+    }
+    text
+}
+
 /// One group's section.
 fn group(number_1: usize, section: &GroupSection) -> String {
     let f = &section.figures;
@@ -216,6 +274,7 @@ fn group(number_1: usize, section: &GroupSection) -> String {
             .map_or_else(String::new, |n| format!(" ({})", literal(n)));
         let _ = writeln!(text, "- {}{note}", literal(file));
     }
+    text.push_str(&error_tests(section));
     text.push_str("\n| measure | mean | SD | runs |\n|---|---|---|---|\n");
     text.push_str(&spread_row("tests executed", &f.executed));
     text.push_str(&spread_row("failures", &f.failures));
@@ -487,8 +546,20 @@ mod tests {
                 bolp: "bolp.g1.svg".into(),
                 fitness: vec![],
             },
+            error_tests: vec![ErrorTest {
+                file: hostile.to_owned(),
+                test: 7,
+                reason: Some("error".to_owned()),
+                message: Some(hostile.repeat(100)),
+            }],
+            error_total: 3,
         };
         let text = report(&[section], false, &[format!("x.jsonl:1: `{hostile}`")]);
+        assert!(text.contains("3 test(s) ended in ERROR"), "{text}");
+        assert!(
+            text.contains(" test 7: error: ") && text.contains("- and 2 more"),
+            "{text}"
+        );
         assert!(!text.contains('<'), "{text}");
         assert!(!rendered(&text).contains("<img src=x"), "{text}");
     }

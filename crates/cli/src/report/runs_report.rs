@@ -4,13 +4,14 @@
 use super::group::{GroupFigures, RunMeasures};
 use super::html::{write_html_report, HtmlReport};
 use super::inputs::{run_inputs, InputKind, RunInput};
-use super::markdown::{self, GroupSection};
+use super::markdown::{self, ErrorTest, GroupSection, ERROR_TESTS_LISTED};
 use super::pictures::draw_group;
 use super::run_key::RunKey;
 use crate::files::run_file::{read_run, RunFile};
 use crate::sbst::read_result_folder;
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
+use road_sim::Outcome;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -193,11 +194,27 @@ pub fn runs_report(
             .iter()
             .map(|r| (r.path.display().to_string(), end_note(r)))
             .collect();
+        let errored: Vec<ErrorTest> = runs
+            .iter()
+            .flat_map(|run| {
+                run.tests
+                    .iter()
+                    .filter(|t| t.execution.result.outcome == Outcome::Error)
+                    .map(|t| ErrorTest {
+                        file: run.path.display().to_string(),
+                        test: t.id,
+                        reason: t.execution.result.reason.map(|r| r.name().to_owned()),
+                        message: t.execution.result.error.clone(),
+                    })
+            })
+            .collect();
         sections.push(GroupSection {
             label: label.clone(),
             files,
             figures,
             pictures,
+            error_total: errored.len(),
+            error_tests: errored.into_iter().take(ERROR_TESTS_LISTED).collect(),
         });
     }
     let mut text = markdown::report(&sections, grouped.compare, &grouped.problems);

@@ -527,6 +527,8 @@ mod tests {
                 bolp: "bolp.g1.svg".into(),
                 fitness: vec![],
             },
+            error_tests: vec![],
+            error_total: 0,
         };
         let mut html = String::new();
         road_data(&mut html, &[section], &[]);
