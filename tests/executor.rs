@@ -3,7 +3,7 @@
 //! garbage, answers out of range or for another road, or floods (tests/python/faulty_executor.py; skipped, saying so,
 //! where python3 is missing), and that a file never starts an executor.
 
-use crate::common::{scratch_dir, signal_and_wait, spawn, test_records, watchdog, wogan};
+use crate::common::{records, scratch_dir, signal_and_wait, spawn, test_records, watchdog, wogan};
 use serde_json::Value;
 use std::path::Path;
 use std::process::Command;
@@ -91,10 +91,17 @@ fn wogan_simulate_as_the_executor_drives_as_wogan_does() {
                 .unwrap(),
         )
         .unwrap();
+        // The header names the executor, with what it said of itself, and no driver of wogan's.
+        assert_eq!(header["oracle"], "executor");
         assert_eq!(
-            header["config"]["executor"],
+            header["config"]["executor"]["command"],
             executor.trim_start_matches("cmd:")
         );
+        assert!(
+            header["config"]["executor"]["roads_at_once"].is_u64(),
+            "{header}"
+        );
+        assert!(header["config"].get("driver").is_none(), "{header}");
     }
 }
 
@@ -234,13 +241,24 @@ fn an_executor_must_answer_hello_before_its_first_road() {
             "{mode}: {}",
             String::from_utf8_lossy(&ran.stderr)
         );
-        let tests = test_records(&out);
-        assert_eq!(tests.len(), 2, "{mode}");
-        for test in &tests {
-            assert_eq!(test["outcome"], "ERROR", "{mode}: {test}");
-            let error = test["error"].as_str().unwrap_or_default();
-            assert!(error.contains(says), "{mode}: {error}");
-        }
+        // The first executor answers hello before the run begins: one that does not ends the run
+        // before any test, with the reason in the summary (and a header naming the command).
+        assert!(test_records(&out).is_empty(), "{mode}");
+        let text = std::fs::read_to_string(&out).expect("the run file");
+        let records: Vec<Value> = text
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert_eq!(records.len(), 2, "{mode}: {text}");
+        assert_eq!(
+            records[0]["config"]["executor"]["command"],
+            executor.trim_start_matches("cmd:")
+        );
+        let error = records[1]["error"].as_str().unwrap_or_default();
+        assert!(
+            error.starts_with("the executor: ") && error.contains(says),
+            "{mode}: {error}"
+        );
     }
 }
 
@@ -408,8 +426,8 @@ fn no_file_starts_an_executor() {
     let canary = dir.join("canary");
     let text = std::fs::read_to_string(&out).unwrap();
     let planted = text.replacen(
-        &format!("\"executor\":\"{} simulate\"", env!("CARGO_BIN_EXE_wogan")),
-        &format!("\"executor\":\"touch {}\"", arg(&canary)),
+        &format!("\"command\":\"{} simulate\"", env!("CARGO_BIN_EXE_wogan")),
+        &format!("\"command\":\"touch {}\"", arg(&canary)),
         1,
     );
     assert_ne!(planted, text);
@@ -500,8 +518,9 @@ fn a_run_an_executor_drove_reads_back_in_a_report() {
             .lines()
             .find(|l| l.starts_with("| wogan"))
             .unwrap_or_default();
+        // Grouped and labelled by the executor, as it named itself, with its own settings.
         assert!(
-            row.contains("/ executor /"),
+            row.contains(&format!("/ faulty (mode {mode}) /")),
             "the driver is the executor's: {row}"
         );
         let distinct = if placed { "1 (1)" } else { "–" };
@@ -634,4 +653,163 @@ fn faults_of_an_executor_holding_several_roads_end_those_roads_and_the_run_goes_
         assert!(tests[20..].iter().all(|t| t["outcome"] != "ERROR"), "{mode}");
         assert_eq!(summary["executor"]["roads_at_once"], 4);
     }
+}
+
+#[test]
+fn a_suite_from_an_executor_run_replays_through_the_executor_and_simulate_drives_through_it() {
+    // `wogan simulate` as the executor drives as wogan does, so its verdicts are known.
+    let dir = scratch_dir("executor-replay");
+    let (run, suite) = (dir.join("run.jsonl"), dir.join("suite.jsonl"));
+    // Judged strictly (BOLP above 0.2 fails), so that a short search fails some roads.
+    let executor = format!(
+        "cmd:{} simulate --oob-tolerance 0.2",
+        env!("CARGO_BIN_EXE_wogan")
+    );
+    let strict = ["--oob-tolerance", "0.2"];
+    let ran = wogan(
+        &[
+            &["run", "--max-tests", "30", "--seed", "1", "--quiet"][..],
+            &["--executor", &executor, "--out", arg(&run)],
+            &strict,
+        ]
+        .concat(),
+        "",
+    );
+    assert_eq!(
+        ran.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let added = wogan(&["suite", "add", "--to", arg(&suite), arg(&run)], "");
+    assert_eq!(
+        added.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&added.stderr)
+    );
+    let kept = std::fs::read_to_string(&suite).expect("the suite");
+    let roads = kept.lines().count() - 1;
+    assert!(roads > 0, "the run found failing roads: {kept}");
+    // The suite records where its roads came from: the executor, as it named itself.
+    assert!(kept.contains("\"driver\":\"wogan simulate"), "{kept}");
+
+    // Replayed through the same executor, every road drives as recorded: nothing changed.
+    let junit = dir.join("replay.xml");
+    let replayed = wogan(
+        &[
+            "replay",
+            arg(&suite),
+            "--executor",
+            &executor,
+            "--jobs",
+            "2",
+            "--fail-on",
+            "changed",
+            "--junit",
+            arg(&junit),
+            "--oob-tolerance",
+            "0.2",
+        ],
+        "",
+    );
+    assert_eq!(
+        replayed.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&replayed.stderr)
+    );
+    let answers = records(&replayed);
+    assert_eq!(answers.len(), roads);
+    for answer in &answers {
+        assert_eq!(answer["outcome"], answer["recorded_outcome"], "{answer}");
+        assert_eq!(answer["max_bolp"], answer["recorded_max_bolp"], "{answer}");
+    }
+    let report = std::fs::read_to_string(&junit).expect("the JUnit report");
+    assert!(
+        report.contains("name=\"driver\" value=\"wogan simulate\""),
+        "{report}"
+    );
+    assert_eq!(report.matches("<failure").count(), roads, "{report}");
+
+    // Through an executor that crashes at the second road: that road ends in ERROR with the
+    // reason, a new executor drives the rest (which it passes: changed), exit 1 (failing now).
+    let Some(crashing) = faulty("crash", 2) else {
+        return;
+    };
+    let replayed = wogan(
+        &[
+            "replay",
+            arg(&suite),
+            "--executor",
+            &crashing,
+            "--oob-tolerance",
+            "0.2",
+        ],
+        "",
+    );
+    assert_eq!(
+        replayed.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&replayed.stderr)
+    );
+    let answers = records(&replayed);
+    assert_eq!(answers.len(), roads);
+    for (i, answer) in answers.iter().enumerate() {
+        if i == 1 {
+            assert_eq!(answer["outcome"], "ERROR", "{answer}");
+            let reason = answer["reason"].as_str().unwrap_or_default();
+            assert!(
+                reason.contains("road 2: the executor: it ended with exit status 3"),
+                "{reason}"
+            );
+        } else {
+            assert_eq!(answer["outcome"], "PASS", "{answer}");
+            assert_eq!(answer["changed"], true, "{answer}");
+        }
+    }
+
+    // `simulate --executor` answers each road as `simulate` does itself.
+    let roads_text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/reference/roads.jsonl"),
+    )
+    .expect("reference roads");
+    let input: String = roads_text
+        .lines()
+        .take(8)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let own = wogan(&["simulate"], &input);
+    let through = wogan(
+        &["simulate", "--jobs", "2", "--executor", &executor],
+        &input,
+    );
+    assert_eq!(
+        through.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&through.stderr)
+    );
+    let key = |output: &std::process::Output| -> Vec<(Value, Value, Value)> {
+        records(output)
+            .into_iter()
+            .map(|r| {
+                (
+                    r["line"].clone(),
+                    r["outcome"].clone(),
+                    r["max_bolp"].clone(),
+                )
+            })
+            .collect()
+    };
+    assert_eq!(key(&own).len(), 8);
+    assert_eq!(key(&own), key(&through));
+    // What needs wogan's own simulator's samples is refused with an executor.
+    let refused = wogan(
+        &["simulate", "--execution-data", "--executor", &executor],
+        &input,
+    );
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("--execution-data"));
 }

@@ -1,7 +1,9 @@
 //! End-to-end test of the MetaDrive executor (examples/metadrive/): a simulator nobody here wrote,
 //! driven through `wogan run --executor`. Protocol lines piped to the executor (a straight road
 //! passes, a tight U-turn leaves the lane on a side); a 20-test search with `--jobs 2` whose every
-//! test is answered; Ctrl-C of a search; and after each, no executor left running.
+//! test is answered; its failing roads kept as a suite and replayed through the executor (the CI
+//! walk-through with a user's own simulator); Ctrl-C of a search; and after each, no executor left
+//! running.
 //!
 //! MetaDrive is not a build dependency: `examples/metadrive/setup.sh` makes its venv. Without the
 //! venv the test says so and checks nothing, unless WOGAN_REQUIRE_METADRIVE is set (CI sets it, after
@@ -209,6 +211,68 @@ fn metadrive_drives_roads_searches_and_leaves_no_process() {
         }
     }
     assert_eq!(executors_left(), "", "after a run");
+    // The header names the executor, as it described itself, and no driver of wogan's.
+    let text = std::fs::read_to_string(&out).unwrap();
+    let header: Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+    assert_eq!(header["oracle"], "executor", "{header}");
+    assert_eq!(
+        header["config"]["executor"]["settings"]["policy"], "idm",
+        "{header}"
+    );
+    assert!(header["config"]["executor"]["name"].is_string(), "{header}");
+
+    // 2b. The CI walk-through (README, examples/ci/) with a user's own simulator: the search's
+    // failing roads kept as a suite, driven again through the executor on each commit, with a
+    // JUnit report. (MetaDrive's drives need not repeat to the bit, so the verdict is `any`.)
+    let suite = dir.join("suite.jsonl");
+    let added = wogan(
+        &[
+            "suite",
+            "add",
+            out.to_str().unwrap(),
+            "--to",
+            suite.to_str().unwrap(),
+            "--max",
+            "4",
+        ],
+        "",
+    );
+    assert_eq!(
+        added.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&added.stderr)
+    );
+    let roads = std::fs::read_to_string(&suite).unwrap().lines().count() - 1;
+    assert!(roads > 0, "IDM at 70 km/h failed none of 20 roads");
+    let junit = dir.join("replay.xml");
+    let replayed = wogan(
+        &[
+            "replay",
+            suite.to_str().unwrap(),
+            "--executor",
+            &command,
+            "--jobs",
+            "2",
+            "--junit",
+            junit.to_str().unwrap(),
+        ],
+        "",
+    );
+    let stderr = String::from_utf8_lossy(&replayed.stderr);
+    assert!(matches!(replayed.status.code(), Some(0 | 1)), "{stderr}");
+    let answers = crate::common::records(&replayed);
+    assert_eq!(answers.len(), roads, "{stderr}");
+    for answer in &answers {
+        assert!(
+            answer["outcome"] == "PASS" || answer["outcome"] == "FAIL",
+            "driven: {answer}"
+        );
+        assert_eq!(answer["recorded_outcome"], "FAIL", "{answer}");
+    }
+    let report = std::fs::read_to_string(&junit).unwrap();
+    assert_eq!(report.matches("<testcase").count(), roads, "{report}");
+    assert_eq!(executors_left(), "", "after a replay");
 
     // 3. Ctrl-C in the middle of a search: exit 130, the summary says so, no executor left.
     let out = dir.join("interrupted.jsonl");

@@ -258,7 +258,11 @@ def test_an_answer_is_refused_when_made_not_when_sent():
 
 def test_an_executor_written_with_the_class_drives_a_search():
     run = wogan.run(["--max-tests", "20", "--seed", "1", "--executor", command("geometric_executor.py")])
-    assert run.header["config"]["executor"].endswith("geometric_executor.py")
+    # The header names the executor: its command and what it said of itself in its hello reply.
+    assert run.header["oracle"] == "executor" and "driver" not in run.header["config"]
+    recorded = run.header["config"]["executor"]
+    assert recorded["command"].endswith("geometric_executor.py")
+    assert recorded["name"] == "Geometric" and recorded["version"] == "1.0", recorded
     assert [t["id"] for t in run.tests] == list(range(1, 21))
     assert run.summary["executed"] == 20 and run.status == 0
     # Every road answered by the executor, with what it computed from the road's points.
@@ -290,16 +294,17 @@ def test_the_binary_says_hello_of_version_3_and_reads_the_reply_before_any_road(
     assert all(t["outcome"] in ("PASS", "FAIL") and t["max_bolp"] == pytest.approx(bolp_of(t["road_points"]),
                                                                                     abs=1e-12) for t in run.tests)
 
-def test_a_hello_hook_that_raises_fails_the_roads_before_any_is_driven(monkeypatch):
-    """Needs the binary's side of version 3 (a version-2 binary sends roads without waiting)."""
+def test_a_hello_hook_that_raises_ends_the_run_before_any_road_is_driven(monkeypatch):
+    """The first executor answers hello before the run begins: one whose hello hook raises ends the
+    run before any test, with its traceback (from stderr) in the summary."""
     monkeypatch.setenv("HELLO_RAISES", "1")
     run = wogan.run(["--max-tests", "10", "--seed", "1", "--executor", command("geometric_executor.py")],
                     check=False)
-    assert run.status == 1 and 0 < len(run.tests) < 10, run.status  # stopped: the executor never starts
-    for test in run.tests:
-        assert test["outcome"] == "ERROR" and "hello" in test["error"], test["error"]
-        assert "RuntimeError: the simulator did not start" in test["error"]  # the traceback, from stderr
-    assert "the simulator did not start" in run.summary["error"]
+    assert run.status == 1 and run.tests == [], run.status
+    assert run.header["config"]["executor"]["command"].endswith("geometric_executor.py")
+    assert "hello" in run.summary["error"]
+    assert "RuntimeError: the simulator did not start" in run.summary["error"]
+
 
 def test_a_drive_that_raises_answers_error_and_the_run_goes_on(monkeypatch):
     monkeypatch.setenv("RAISE_AT", "3")

@@ -10,7 +10,9 @@
 # ALGORITHMS (default "random wogan preset-sbst"): random search, the paper's WOGAN, `--preset
 # sbst`; "jobs2-ALGORITHM" runs ALGORITHM with `--jobs 2` (two MetaDrive executors),
 # "distance-ALGORITHM" with `--fitness distance` (the lane distance the executor answers with).
-# The driver's conditions are wogan's defaults (0.85 tolerance, 70 km/h), sent to the executor in `hello`. A run
+# The driver's conditions are wogan's defaults (0.85 tolerance, 70 km/h), sent to the executor in
+# `hello`; SPEED_LIMIT=46 drives at 46 km/h instead, where IDM is calibrated (fails 8-20% of the
+# SBST 2022 entries' roads: examples/metadrive/README.md). A run
 # whose file ends with its summary is kept (delete it to make it again), unless a signal cut it
 # short. WOGAN=path uses another binary (default target/release/wogan, built here). OUT=folder
 # writes there instead (the `--jobs 2` speed-up is measured in target/metadrive-speed/, with
@@ -48,7 +50,7 @@ for algorithm in $algorithms; do
     if [ -f "$file" ] && tail -n 1 "$file" | grep '"type":"summary"' | grep -vq '"interrupted":true'; then
       continue
     fi
-    "$WOGAN" run --quiet "${options[@]}" --jobs "$jobs" --seed "$seed" \
+    "$WOGAN" run --quiet "${options[@]}" ${SPEED_LIMIT:+--speed-limit "$SPEED_LIMIT"} --jobs "$jobs" --seed "$seed" \
       --generation-budget "$generation" --execution-budget "$execution" \
       --executor "cmd:$python examples/metadrive/executor.py --policy $policy" --out "$file" \
       2> "$file.stderr" || echo "metadrive_runs.sh: $file: wogan exited $? (see $file.stderr)" >&2

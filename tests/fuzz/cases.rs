@@ -132,6 +132,9 @@ pub(super) fn simulate_case(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Ca
         case.opt(rng, "--trace", "trace");
         case.json_outputs.push("trace".into());
     }
+    if chance(rng, 0.25) {
+        executor_options(rng, corpus, case, wild);
+    }
     stray_argument(rng, case, wild);
 }
 
@@ -254,7 +257,11 @@ pub(super) fn run_case(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case) {
 /// `--executor` with an executor that answers garbage: `cat` of mutated lines (records of every
 /// kind, huge numbers, binary, ...), so every answer tries the protocol's reader.
 fn executor_options(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case, wild: bool) {
-    let answers = input_lines(rng, corpus, &mut case.notes);
+    let answers = if chance(rng, 0.7) {
+        executor_answers(rng, &mut case.notes)
+    } else {
+        input_lines(rng, corpus, &mut case.notes)
+    };
     case.file("answers.txt", answers);
     let executor = if wild && chance(rng, 0.3) {
         *pick(
@@ -283,6 +290,51 @@ fn executor_options(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case, wild
     }
 }
 
+/// What a hostile executor writes: a reply to `hello` (mostly a good one, so that its answers are
+/// read), then answers to roads 1, 2, ... with every field the protocol has, mutated: garbage,
+/// non-finite and huge numbers, ids out of range, oversized lines.
+fn executor_answers(rng: &mut ChaCha8Rng, notes: &mut Vec<String>) -> Vec<u8> {
+    let mut steps = Vec::new();
+    let mut reply = serde_json::json!({
+        "type": "hello", "protocol": "wogan-executor", "version": 3,
+        "roads_at_once": 1,
+        "executor": {"name": "fuzz", "version": "1", "settings": {"k": 1}},
+    });
+    if chance(rng, 0.2) {
+        steps.push(format!("reply: {}", mutate_value(rng, &mut reply)));
+    }
+    let mut text = encode(rng, &reply, 0.0, &mut steps);
+    text.push(b'\n');
+    for id in 1..=rng.random_range(1..=6u64) {
+        let mut answer = serde_json::json!({
+            "id": id,
+            "max_bolp": rng.random_range(0.0..=1.0f64),
+            "outcome": *pick(rng, &["PASS", "FAIL", "ERROR"]),
+            "sim_time_s": rng.random_range(0.0..100.0f64),
+            "oob_side": *pick(rng, &["left", "right"]),
+            "oob_point": [rng.random_range(0.0..200.0f64), rng.random_range(0.0..200.0f64)],
+            "min_lane_distance_m": rng.random_range(-3.0..2.0f64),
+            "error": "a reason",
+        });
+        if chance(rng, 0.6) {
+            steps.push(format!("answer {id}: {}", mutate_value(rng, &mut answer)));
+        }
+        let mut line = encode(rng, &answer, 0.0, &mut steps);
+        if chance(rng, 0.15) {
+            steps.push(format!("answer {id}: {}", mutate_text(rng, &mut line)));
+        }
+        if chance(rng, 0.03) {
+            // Past wogan's line bound (16 MiB): refused by length, never read whole.
+            steps.push(format!("answer {id}: a 17 MiB line"));
+            line = vec![b' '; 17 << 20];
+        }
+        text.extend_from_slice(&line);
+        text.push(b'\n');
+    }
+    notes.push(format!("executor's answers: {}", steps.join("; ")));
+    text
+}
+
 pub(super) fn report_case(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case) {
     let wild = chance(rng, 0.3);
     let trace = chance(rng, 0.25);
@@ -309,6 +361,10 @@ pub(super) fn report_case(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case
         "report"
     };
     case.opt(rng, "--out", out);
+    if chance(rng, 0.3) {
+        // The page: every string of the files goes into it.
+        case.arg("--html");
+    }
     // `--vs` takes every argument after it, so it comes last.
     if !trace && chance(rng, 0.35) {
         case.arg("--vs");
@@ -590,6 +646,9 @@ pub(super) fn replay_case(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case
             "out.xml"
         };
         case.opt(rng, "--junit", junit);
+    }
+    if chance(rng, 0.25) {
+        executor_options(rng, corpus, case, wild);
     }
     stray_argument(rng, case, wild);
 }

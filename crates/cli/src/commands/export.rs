@@ -62,7 +62,8 @@ pub fn run(args: &ExportArgs) -> Result<Status> {
             args.run.display()
         );
     };
-    if let Some(command) = header.config.get("executor").and_then(|c| c.as_str()) {
+    if let Some(executor) = &header.settings.executor {
+        let command = executor.command.as_deref().unwrap_or("COMMAND");
         bail!(
             "{} was driven by an external executor ({command}); export drives each test again \
              with wogan's simulator, which would not give that executor's drives. wogan never \

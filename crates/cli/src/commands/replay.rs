@@ -1,5 +1,6 @@
 //! `wogan replay`: the regression suite's command. It drives saved roads again (from runs, suites,
-//! road files and the competition's exports) against the driver given now and writes, per road,
+//! road files and the competition's exports) against the driver given now, or through an
+//! executor (`--executor`: a user's own simulator), and writes, per road,
 //! its outcome now beside the one recorded, in input order as each is known; optionally a JUnit
 //! report. The exit status is the CI verdict: 1 when a road fails now (`--fail-on any`) or when
 //! an outcome changed (`--fail-on changed`), 2 when some input could not be used (the good roads
@@ -14,6 +15,9 @@ use crate::files::saved_roads::{read_saved_roads, SavedRoad};
 use crate::interrupt::stop_flag;
 use crate::jobs::{Jobs, Next};
 use crate::options::driver_options::DriverOptions;
+use crate::options::executor_options::ExecutorOptions;
+use crate::sut::failure_streak::FailureStreak;
+use crate::sut::ExecutorDriver;
 use anyhow::{bail, Result};
 use clap::Args;
 use road_sim::{simulate, DriverConfig, SimConfig, SimResult, StopReason, Validator};
@@ -29,6 +33,8 @@ pub struct ReplayArgs {
     pub files: Vec<PathBuf>,
     #[command(flatten)]
     pub driver: DriverOptions,
+    #[command(flatten)]
+    pub executor: ExecutorOptions,
     /// JSON file overriding the simulation's and the driver's defaults (`{"sim": {...},
     /// "driver": {...}}`, as `wogan simulate --config` reads it).
     #[arg(long, value_name = "FILE")]
@@ -75,6 +81,24 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
     let (sim, driver) = args
         .driver
         .resolve_for_driving(args.config.as_deref(), "replay")?;
+    let streak = FailureStreak::new(args.executor.max_failed_drives as usize);
+    let executor = match args
+        .executor
+        .start(args.driver.map_size, &sim, &streak, &stop)
+    {
+        Ok(executor) => executor,
+        Err(reason) => {
+            eprintln!("wogan replay: {reason}");
+            return Ok(Status::Failed);
+        }
+    };
+    let driving = match &executor {
+        Some(executor) => Driving::Executor(executor),
+        None => Driving::Simulator {
+            driver: &driver,
+            sim: &sim,
+        },
+    };
     if let DriverConfig::Onnx(network) = &driver {
         for warning in changed_models(&args.files, network.model().sha256()) {
             eprintln!("wogan replay: {warning}");
@@ -98,7 +122,7 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
             Next::Items(batch)
         })
     };
-    let drive = |&index: &usize| replay_one(&roads[index], &validator, &driver, &sim, &stop);
+    let drive = |&index: &usize| replay_one(index, &roads[index], &validator, &driving, &stop);
     let write = |&index: &usize, answer: Option<Replayed>| -> Result<()> {
         let road = &roads[index];
         // Cut short by Ctrl-C: not reported, as the drive did not end.
@@ -119,9 +143,20 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
         Ok(())
     };
     jobs.answer_in_order(&stop, next, drive, write)?;
-    let interrupted = stop.load(Ordering::SeqCst);
+    let gave_up = streak.gave_up();
+    let interrupted = stop.load(Ordering::SeqCst) && gave_up.is_none();
+    let described = executor.as_ref().and_then(ExecutorDriver::description);
+    // The executors end (and are reaped) before the report is written.
+    drop(executor);
     if let Some(path) = &args.junit {
-        write_junit(path, args, &replayed)?;
+        let driver = match (&args.executor.executor, described) {
+            (Some(_), Some((description, _))) => {
+                description.name.unwrap_or_else(|| "executor".to_owned())
+            }
+            (Some(_), None) => "executor".to_owned(),
+            (None, _) => args.driver.kind().name().to_owned(),
+        };
+        write_junit(path, &driver, &replayed)?;
     }
     let failing = replayed
         .iter()
@@ -142,8 +177,13 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
         ReplayFailOn::Any => failing > 0,
         ReplayFailOn::Changed => changed > 0,
     };
+    if let Some(reason) = &gave_up {
+        eprintln!("wogan replay: stopped: {reason}");
+    }
     Ok(if interrupted {
         Status::Interrupted
+    } else if gave_up.is_some() {
+        Status::Failed
     } else if !problems.is_empty() {
         Status::BadInput
     } else if verdict {
@@ -153,25 +193,50 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
     })
 }
 
-/// Drives one saved road; `None` when Ctrl-C cut the drive short.
+/// What drives the roads now.
+enum Driving<'a> {
+    /// A driver in wogan's simulator.
+    Simulator {
+        driver: &'a DriverConfig,
+        sim: &'a SimConfig,
+    },
+    /// An executor.
+    Executor(&'a ExecutorDriver<'a>),
+}
+
+/// Drives saved road number `index` (from 0, in input order); `None` when Ctrl-C cut the drive
+/// short (or the executor gave up before it).
 fn replay_one(
+    index: usize,
     road: &SavedRoad,
     validator: &Validator,
-    driver: &DriverConfig,
-    sim: &SimConfig,
+    driving: &Driving<'_>,
     stop: &AtomicBool,
 ) -> Option<Replayed> {
     let verdict = validator.validate(&road.road_points);
     let (outcome, max_bolp, reason, oob, result) = match (verdict.reason, &verdict.road) {
         (None, Some(valid)) => {
-            let result = simulate(valid, driver.build().as_mut(), sim, false, Some(stop));
+            let result = match driving {
+                Driving::Simulator { driver, sim } => {
+                    simulate(valid, driver.build().as_mut(), sim, false, Some(stop))
+                }
+                // The protocol's road id is the road's place in the input, from 1.
+                Driving::Executor(executor) => {
+                    executor.drive(index as u64 + 1, &road.road_points, valid)?
+                }
+            };
             if result.reason == Some(StopReason::Interrupted) {
                 return None;
             }
+            // An ERROR's reason is its error (an executor's, or a controller's).
+            let reason = result
+                .reason
+                .map(|r| r.name().to_owned())
+                .or_else(|| result.error.clone());
             (
                 result.outcome.name().to_owned(),
                 result.max_bolp,
-                result.reason.map(|r| r.name().to_owned()),
+                reason,
                 result.oob,
                 Some(result),
             )
@@ -211,7 +276,7 @@ fn replay_one(
 /// Writes the replay's JUnit report: one case per road, the recorded outcome in its message.
 fn write_junit(
     path: &std::path::Path,
-    args: &ReplayArgs,
+    driver: &str,
     replayed: &[(&SavedRoad, Replayed)],
 ) -> Result<()> {
     let cases: Vec<JunitCase> = replayed
@@ -242,7 +307,7 @@ fn write_junit(
         })
         .collect();
     let properties = [
-        ("driver", args.driver.kind().name().to_owned()),
+        ("driver", driver.to_owned()),
         ("wogan", crate::files::records::VERSION.to_owned()),
     ];
     junit::write_report(path, "wogan replay", &properties, &cases)

@@ -5,16 +5,16 @@ use super::Status;
 use crate::files::generator_file::{self, GeneratorPayload};
 use crate::files::json_lines::JsonLinesWriter;
 use crate::files::junit::{self, JunitCase};
-use crate::files::records::{Record, RoadExecution, SummaryRecord, TestRecord, TrainRecord};
+use crate::files::records::{Header, Record, RoadExecution, SummaryRecord, TestRecord};
 use crate::interrupt::stop_flag;
 use crate::options::run_plan::{FailOn, RunArgs, RunPlan};
 use crate::sut::failure_streak::FailureStreak;
 use crate::sut::road_sut::RoadSut;
-use crate::sut::ExecutorSut;
+use crate::sut::{ExecutorDriver, ExecutorSut, HelloSettings};
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use road_sim::road::diversity_profile::diversity_profile;
-use road_sim::Validator;
+use road_sim::{FitnessKind, Validator};
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
 use wogan_core::diversity::median_pairwise_distance;
@@ -30,16 +30,39 @@ pub fn run(args: &RunArgs) -> Result<Status> {
 /// Searches as `plan` says until its budget is spent or `stop` is set, writing every record.
 fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
     let mut out = JsonLinesWriter::create(plan.out.as_ref())?;
-    out.write_header(plan.header())?;
     let settings = &plan.settings;
     let streak = FailureStreak::new(plan.max_failed_drives);
+    let executor = plan.executor.as_ref().map(|executor| {
+        let hello = HelloSettings {
+            map_size_m: settings.road.map_size_m,
+            oob_tolerance: settings.sim.oob_tolerance,
+            speed_limit_kmh: settings.sim.speed_limit_kmh,
+        };
+        let needs_lane_distance = plan.fitness == FitnessKind::Distance;
+        ExecutorDriver::new(executor.clone(), hello, needs_lane_distance, &streak, stop)
+    });
+    // The first executor answers `hello` before the header is written, which records what it
+    // said of itself; one that cannot even be started ends the run.
+    let not_started = executor.as_ref().and_then(|e| e.start().err());
+    let mut recorded = settings.clone();
+    if let (Some(record), Some((description, roads_at_once))) = (
+        recorded.executor.as_mut(),
+        executor.as_ref().and_then(ExecutorDriver::description),
+    ) {
+        record.description = description;
+        record.roads_at_once = Some(roads_at_once);
+    }
+    out.write_header(Header {
+        config: &recorded,
+        ..plan.header()
+    })?;
     let sut = RoadSut {
         roads: settings.road,
         curvature_points: settings.curvature_points as usize,
         shape: settings.road_shape,
         min_turn_rad: settings.min_road_turn_rad,
         validator: Validator::new(settings.road.map_size_m),
-        driver: settings.driver.clone(),
+        driver: plan.driver.clone(),
         sim: settings.sim,
         fitness: plan.fitness,
         stop,
@@ -51,83 +74,34 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
     let mut driven: Vec<TestRecord> = Vec::new();
     let mut write_error: Option<anyhow::Error> = None;
     let mut on_event = |event| {
-        let record = match event {
-            Event::Test {
-                id,
-                phase,
-                fitness,
-                predicted_fitness,
-                invalid_candidates,
-                ranked_candidates,
-                generation_ms,
-                sbst_generation_ms,
-                beyond_budget,
-                output,
-                ..
-            } => {
-                let test = TestRecord {
-                    id,
-                    phase,
-                    fitness,
-                    predicted_fitness,
-                    invalid_candidates,
-                    ranked_candidates: Some(ranked_candidates),
-                    generation_ms,
-                    sbst_generation_ms: Some(sbst_generation_ms),
-                    beyond_budget,
-                    execution: output,
-                };
-                if test.failed() && !beyond_budget {
-                    failing_profiles.push(diversity_profile(&test.execution.interpolated));
-                }
-                progress.test_done(failing_profiles.len());
-                if plan.junit.is_some() {
-                    driven.push(test.clone());
-                }
-                Record::Test(test)
+        let record = Record::of_event(event);
+        if let Record::Test(test) = &record {
+            if test.failed() && !test.beyond_budget {
+                failing_profiles.push(diversity_profile(&test.execution.interpolated));
             }
-            Event::Train {
-                analyzer_loss,
-                critic_loss,
-                gradient_penalty,
-                generator_loss,
-                wasserstein_estimate,
-                train_ms,
-                tests,
-            } => Record::Train(TrainRecord {
-                analyzer_loss,
-                critic_loss,
-                gradient_penalty: Some(gradient_penalty),
-                generator_loss,
-                wasserstein_estimate,
-                train_ms,
-                tests,
-            }),
-        };
+            progress.test_done(failing_profiles.len());
+            if plan.junit.is_some() {
+                driven.push(test.clone());
+            }
+        }
         if let Err(error) = out.write(&record) {
             // Output is gone (a closed pipe, a full disk): stop searching, keep the first error.
             stop.store(true, Ordering::SeqCst);
             write_error.get_or_insert(error);
         }
     };
-    let executor = plan.executor.as_ref().map(|settings| {
-        ExecutorSut::new(
-            sut.clone(),
-            plan.settings.sim,
-            plan.fitness,
-            settings.clone(),
-            &streak,
-            stop,
-        )
-    });
-    let outcome = match &executor {
-        Some(executor) => search(executor, plan, stop, &mut on_event),
-        None => search(&sut, plan, stop, &mut on_event),
+    let outcome = match (&executor, not_started) {
+        (_, Some(reason)) => Err(reason),
+        (Some(executor), None) => {
+            let sut = ExecutorSut::new(sut.clone(), settings.sim, plan.fitness, executor);
+            search(&sut, plan, stop, &mut on_event).map_err(|e| e.to_string())
+        }
+        (None, None) => search(&sut, plan, stop, &mut on_event).map_err(|e| e.to_string()),
     };
     let gave_up = streak.gave_up();
     let described = executor
         .as_ref()
-        .and_then(ExecutorSut::description)
+        .and_then(ExecutorDriver::description)
         .and_then(|(description, roads_at_once)| {
             let mut described = serde_json::to_value(description).ok()?;
             described["roads_at_once"] = roads_at_once.into();
@@ -142,7 +116,7 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
     let diversity = median_pairwise_distance(&failing_profiles, plan.seed);
     let (summary, snapshot, error) = match outcome {
         Ok((summary, snapshot)) => (summary, snapshot, gave_up),
-        Err(error) => (Summary::default(), None, Some(error.to_string())),
+        Err(error) => (Summary::default(), None, Some(error)),
     };
     out.write(&Record::Summary(SummaryRecord {
         executed: summary.executed,

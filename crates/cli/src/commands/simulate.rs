@@ -1,4 +1,5 @@
-//! `wogan simulate`: drive the chosen driver along every road of the input.
+//! `wogan simulate`: drive the chosen driver along every road of the input, in wogan's simulator
+//! or through an executor (`--executor`: a user's own simulator).
 
 use super::road_stream::{answer_each_road, Answer};
 use super::Status;
@@ -7,7 +8,9 @@ use crate::files::records::{HelloRecord, InvalidOutcome, Record, ResultRecord, T
 use crate::files::sbst_format::execution_data;
 use crate::interrupt::stop_flag;
 use crate::options::driver_options::DriverOptions;
+use crate::options::executor_options::ExecutorOptions;
 use crate::sut::executor_protocol;
+use crate::sut::failure_streak::FailureStreak;
 use anyhow::{Context, Result};
 use clap::Args;
 use road_sim::{simulate, Reason, Road, Sample, StopReason, Validator};
@@ -21,6 +24,8 @@ pub struct SimulateArgs {
     pub file: Option<PathBuf>,
     #[command(flatten)]
     pub driver: DriverOptions,
+    #[command(flatten)]
+    pub executor: ExecutorOptions,
     /// JSON file overriding the simulation's and the driver's defaults: `{"sim": {...},
     /// "driver": {...}}`, as `wogan run --config` reads them (a `search` section is refused).
     /// Options given on the command line win over the file.
@@ -29,13 +34,14 @@ pub struct SimulateArgs {
     /// Roads simulated at once (output keeps the input order).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
     pub jobs: u32,
-    /// Write DIR/trace.N.jsonl for input line N: the road, then one sample per lane-monitor step.
-    #[arg(long, value_name = "DIR")]
+    /// Write DIR/trace.N.jsonl for input line N: the road, then one sample per lane-monitor step
+    /// (wogan's simulator only).
+    #[arg(long, value_name = "DIR", conflicts_with = "executor")]
     pub trace: Option<PathBuf>,
     /// Put the drive's records in each answer as the SBST pipeline stores them
     /// (`execution_data`: arrays of its 17 `SimulationDataRecord` fields), so that a pipeline
-    /// executor needs nothing else.
-    #[arg(long)]
+    /// executor needs nothing else (wogan's simulator only).
+    #[arg(long, conflicts_with = "executor")]
     pub execution_data: bool,
 }
 
@@ -54,7 +60,22 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
         .resolve_for_driving(args.config.as_deref(), "simulate")?;
     let max_steering_deg = config.vehicle.max_steering_rad.to_degrees();
     let sampled = args.trace.is_some() || args.execution_data;
+    let streak = FailureStreak::new(args.executor.max_failed_drives as usize);
+    let executor = match args
+        .executor
+        .start(args.driver.map_size, &config, &streak, &stop)
+    {
+        Ok(executor) => executor,
+        Err(reason) => {
+            eprintln!("wogan simulate: {reason}");
+            return Ok(Status::Failed);
+        }
+    };
     // Serving as an executor (`wogan run --executor cmd:"wogan simulate"`), it says what it is.
+    let oracle = match &args.executor.executor {
+        Some(command) => format!("executor {command}"),
+        None => args.driver.kind().name().to_owned(),
+    };
     let hello_reply = Record::Hello(HelloRecord {
         protocol: executor_protocol::PROTOCOL.to_owned(),
         version: executor_protocol::VERSION,
@@ -62,13 +83,13 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
             "name": "wogan simulate",
             "version": env!("CARGO_PKG_VERSION"),
             "settings": {
-                "oracle": args.driver.kind().name(),
+                "oracle": oracle,
                 "speed_limit_kmh": config.speed_limit_kmh,
                 "oob_tolerance": config.oob_tolerance,
             },
         }),
     });
-    answer_each_road(
+    let status = answer_each_road(
         input,
         &mut out,
         args.driver.map_size,
@@ -79,6 +100,22 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
             let line = source.line;
             let verdict = validator.validate(road.points().unwrap_or_default());
             match (verdict.reason, verdict.road) {
+                (None, Some(road)) if executor.is_some() => {
+                    let executor = executor.as_ref().expect("an executor");
+                    let points = road.road_points.clone();
+                    // The protocol's road id is the input line: unique among the roads in flight.
+                    match executor.drive(line as u64, &points, &road) {
+                        Some(result) => {
+                            Answer::Record(Box::new(Record::Result(ResultRecord::Driven {
+                                line,
+                                id: source.id.clone(),
+                                result,
+                                execution_data: None,
+                            })))
+                        }
+                        None => Answer::Dropped,
+                    }
+                }
                 (None, Some(road)) => {
                     let mut result = simulate(
                         &road,
@@ -118,7 +155,16 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
                 }
             }
         },
-    )
+    )?;
+    // The executors end (and are reaped) before the command does.
+    drop(executor);
+    Ok(match streak.gave_up() {
+        Some(reason) => {
+            eprintln!("wogan simulate: stopped: {reason}");
+            Status::Failed
+        }
+        None => status,
+    })
 }
 
 /// Writes `DIR/trace.LINE.jsonl`.

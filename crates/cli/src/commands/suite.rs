@@ -133,7 +133,7 @@ fn add(runs: &[PathBuf], to: &Path, max: Option<usize>) -> Result<Status> {
                         run: path.display().to_string(),
                         test: test.id,
                         seed: header.seed,
-                        driver: header.driver.name().to_owned(),
+                        driver: header.simulator.clone(),
                         oob_tolerance: header.oob_tolerance,
                         wogan: header.version.clone(),
                     },

@@ -14,9 +14,9 @@ use wogan_core::{BetweenNiches, RoundAcceptance};
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(default)]
 pub struct HeaderSettings {
-    /// The executor's command, when an executor drove the roads.
+    /// The executor, when one drove the roads.
     #[serde(deserialize_with = "lenient")]
-    pub executor: Option<String>,
+    pub executor: Option<ExecutorRead>,
     /// Curvature values per road.
     #[serde(deserialize_with = "lenient")]
     pub curvature_points: Option<u64>,
@@ -44,6 +44,88 @@ impl HeaderSettings {
             return Self::default();
         }
         serde_json::from_value(config.clone()).unwrap_or_default()
+    }
+}
+
+/// A header's `executor`: the command and what the executor said of itself (older runs recorded
+/// the command alone, as text).
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(from = "ExecutorWritten")]
+pub struct ExecutorRead {
+    /// The command, as typed after `cmd:`.
+    pub command: Option<String>,
+    /// Its name, as its reply to `hello` gave it.
+    pub name: Option<String>,
+    /// Its version.
+    pub version: Option<String>,
+    /// Its own settings.
+    pub settings: Option<serde_json::Map<String, Value>>,
+}
+
+impl ExecutorRead {
+    /// How a report names the executor: its name and settings, or its command when it said
+    /// nothing of itself. The settings wogan tells every executor (tolerance, speed limit) are a
+    /// report's own columns and left out.
+    pub fn label(&self) -> String {
+        let Some(name) = &self.name else {
+            return match &self.command {
+                Some(command) => format!("executor ({command})"),
+                None => "executor".to_owned(),
+            };
+        };
+        let settings: Vec<String> = self
+            .settings
+            .iter()
+            .flatten()
+            .filter(|(key, _)| !matches!(key.as_str(), "oob_tolerance" | "speed_limit_kmh"))
+            .map(|(key, value)| match value {
+                Value::String(text) => format!("{key} {text}"),
+                other => format!("{key} {other}"),
+            })
+            .collect();
+        match settings.is_empty() {
+            true => name.clone(),
+            false => format!("{name} ({})", settings.join(", ")),
+        }
+    }
+}
+
+/// The two ways `executor` was written.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum ExecutorWritten {
+    Command(String),
+    Described {
+        #[serde(default, deserialize_with = "lenient")]
+        command: Option<String>,
+        #[serde(default, deserialize_with = "lenient")]
+        name: Option<String>,
+        #[serde(default, deserialize_with = "lenient")]
+        version: Option<String>,
+        #[serde(default, deserialize_with = "lenient")]
+        settings: Option<serde_json::Map<String, Value>>,
+    },
+}
+
+impl From<ExecutorWritten> for ExecutorRead {
+    fn from(written: ExecutorWritten) -> Self {
+        match written {
+            ExecutorWritten::Command(command) => ExecutorRead {
+                command: Some(command),
+                ..Self::default()
+            },
+            ExecutorWritten::Described {
+                command,
+                name,
+                version,
+                settings,
+            } => ExecutorRead {
+                command,
+                name,
+                version,
+                settings,
+            },
+        }
     }
 }
 

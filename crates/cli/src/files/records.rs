@@ -18,7 +18,7 @@ use road_sim::{DriverKind, FitnessKind, LaneExit, Outcome, Reason, Sample, SimRe
 use serde::{Deserialize, Serialize};
 #[cfg(doc)]
 use wogan_core::Algorithm;
-use wogan_core::Phase;
+use wogan_core::{Event, Phase};
 
 /// The version written in headers.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -59,6 +59,55 @@ pub enum Record<C = serde_json::Value> {
     Unknown,
 }
 
+impl Record {
+    /// The record of one of the search's events: a test executed, or a training round.
+    pub fn of_event(event: Event<RoadExecution>) -> Self {
+        match event {
+            Event::Test {
+                id,
+                phase,
+                fitness,
+                predicted_fitness,
+                invalid_candidates,
+                ranked_candidates,
+                generation_ms,
+                sbst_generation_ms,
+                beyond_budget,
+                output,
+                ..
+            } => Record::Test(TestRecord {
+                id,
+                phase,
+                fitness,
+                predicted_fitness,
+                invalid_candidates,
+                ranked_candidates: Some(ranked_candidates),
+                generation_ms,
+                sbst_generation_ms: Some(sbst_generation_ms),
+                beyond_budget,
+                execution: output,
+            }),
+            Event::Train {
+                analyzer_loss,
+                critic_loss,
+                gradient_penalty,
+                generator_loss,
+                wasserstein_estimate,
+                train_ms,
+                tests,
+            } => Record::Train(TrainRecord {
+                analyzer_loss,
+                critic_loss,
+                gradient_penalty: Some(gradient_penalty),
+                generator_loss,
+                wasserstein_estimate,
+                train_ms,
+                tests,
+            }),
+        }
+    }
+}
+
 /// An executor's reply to the executor protocol's `hello`
 /// ([`crate::sut::executor_protocol`]): the protocol it speaks, and what it is.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -83,13 +132,60 @@ pub struct Header<C = serde_json::Value> {
     /// run files of reference implementations name their own (`stgem-wogan`), so it is read as a
     /// name.
     pub algorithm: String,
-    /// The driver under test (`--oracle`, the competition's word, names it on the wire).
+    /// What drove the roads: the driver under test (`--oracle`, the competition's word, names it
+    /// on the wire), or `executor`.
     #[serde(rename = "oracle")]
-    pub driver: DriverKind,
+    pub driver: Oracle,
     /// What the search maximised.
     pub fitness: FitnessKind,
     /// Every setting, resolved (see `options::run_plan::RunSettings`).
     pub config: C,
+}
+
+/// What drove a run's roads, as its header's `oracle` names it: one of wogan's drivers, or
+/// `executor`, an external program (the header's `config.executor` says which).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Oracle {
+    /// A driver in wogan's simulator.
+    Driver(DriverKind),
+    /// An executor (`--executor`).
+    Executor,
+}
+
+impl Oracle {
+    /// The driver in wogan's simulator, unless an executor drove.
+    pub fn driver(self) -> Option<DriverKind> {
+        match self {
+            Oracle::Driver(kind) => Some(kind),
+            Oracle::Executor => None,
+        }
+    }
+
+    /// Its name on the wire.
+    pub fn name(self) -> &'static str {
+        match self {
+            Oracle::Driver(kind) => kind.name(),
+            Oracle::Executor => "executor",
+        }
+    }
+}
+
+impl Serialize for Oracle {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Oracle {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        if name == "executor" {
+            return Ok(Oracle::Executor);
+        }
+        serde_json::from_value(serde_json::Value::String(name))
+            .map(Oracle::Driver)
+            .map_err(serde::de::Error::custom)
+    }
 }
 
 /// One executed test.

@@ -38,8 +38,9 @@ pub struct RunHeader {
     pub settings: HeaderSettings,
     /// Side of the map, metres.
     pub map_size_m: f64,
-    /// The driver under test.
-    pub driver: DriverKind,
+    /// The driver under test in wogan's simulator; `None` when an executor drove the roads (or a
+    /// peer's folder names an oracle wogan does not know).
+    pub driver: Option<DriverKind>,
     /// Every setting as the header gives it (for replaying a test).
     pub config: Value,
     /// The `wogan` version that wrote the run.
@@ -295,7 +296,11 @@ impl RunHeader {
     /// Why this run's roads cannot be driven again when it is an executor's run: its drives were
     /// the executor's, which wogan never starts from a file.
     pub fn executor_run(&self) -> Option<String> {
-        let command = self.settings.executor.as_ref()?;
+        let executor = self.settings.executor.as_ref()?;
+        let command = executor
+            .command
+            .as_deref()
+            .unwrap_or("its command is not recorded");
         Some(format!(
             "its roads were driven by an external executor ({command}), which wogan never starts \
              from a file; wogan's own simulator would not give that executor's drives"
@@ -312,6 +317,9 @@ impl RunHeader {
         if let Some(why) = self.executor_run() {
             bail!("{why}");
         }
+        let Some(kind) = self.driver else {
+            bail!("the run's header names no driver of wogan's");
+        };
         if !self.config.is_object() {
             bail!("the run's header, config: not an object");
         }
@@ -320,12 +328,12 @@ impl RunHeader {
         let mut sim = self.config.get("sim").cloned();
         let mut driver = self.config.get("driver").cloned();
         if let Some(serde_json::Value::Object(fields)) = &mut sim {
-            for (old, kind) in [
+            for (old, old_kind) in [
                 ("beamng_ai", DriverKind::BeamNgAiProxy),
                 ("dave2", DriverKind::Dave2Proxy),
             ] {
                 if let Some(section) = fields.remove(old) {
-                    if kind == self.driver && driver.is_none() {
+                    if old_kind == kind && driver.is_none() {
                         driver = Some(section);
                     }
                 }
@@ -333,7 +341,7 @@ impl RunHeader {
         }
         checked_settings(
             SettingsSource::RunHeader,
-            self.driver,
+            kind,
             sim.as_ref(),
             driver.as_ref(),
             DriverInputs {
@@ -350,17 +358,19 @@ impl RunHeader {
         RunHeader {
             algorithm: header.algorithm.clone(),
             // An executor's run drove no driver of wogan's: the simulator is the executor's.
-            simulator: if settings.executor.is_some() {
-                "executor".to_owned()
-            } else {
-                header.driver.name().to_owned()
+            simulator: match &settings.executor {
+                Some(executor) => executor.label(),
+                None => header.driver.name().to_owned(),
             },
             fitness: Some(header.fitness),
             seed: header.seed,
             oob_tolerance: settings.sim.oob_tolerance,
             speed_limit_kmh: settings.sim.speed_limit_kmh,
             map_size_m: settings.road.map_size_m.unwrap_or(200.0),
-            driver: header.driver,
+            driver: match settings.executor {
+                Some(_) => None,
+                None => header.driver.driver(),
+            },
             config: header.config.clone(),
             version: header.version.clone(),
             settings,

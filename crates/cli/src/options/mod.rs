@@ -4,6 +4,7 @@
 
 pub mod config_file;
 pub mod driver_options;
+pub mod executor_options;
 pub mod run_plan;
 pub mod search_preset;
 pub mod value_parsers;

@@ -7,13 +7,15 @@
 
 use crate::files::generator_file::{self, GeneratorPayload};
 use crate::files::output_file::same_file;
-use crate::files::records::{Header, VERSION};
+use crate::files::records::{Header, Oracle, VERSION};
 use crate::options::config_file::{self, ConfigFile};
 use crate::options::driver_options::{DriverOptions, DEFAULT_MAP_SIZE_M};
+use crate::options::executor_options::ExecutorOptions;
 use crate::options::search_preset::SearchPreset;
 use crate::options::value_parsers::{
     budget_duration, fitness_kind, fraction, road_placement, road_shape, share,
 };
+use crate::sut::executor_protocol::ExecutorDescription;
 use crate::sut::ExecutorSettings;
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -133,30 +135,8 @@ pub struct RunArgs {
     /// settings are the file's.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["save_generator", "mutation_share", "target_decay", "init_fraction", "round_acceptance", "preset", "road_placement", "road_shape", "min_road_turn"])]
     pub generator: Option<PathBuf>,
-    /// Drive each road with an external program instead of wogan's simulator: `cmd:COMMAND`
-    /// (run with `sh -c`; one per worker), speaking the executor protocol (docs/reference.md).
-    /// Taken only from this command line, never from a file.
-    #[arg(long, value_name = "cmd:COMMAND", value_parser = executor_command)]
-    pub executor: Option<String>,
-    /// Longest wait for an executor's answer to one road (and for a new one's reply to `hello`),
-    /// from 100ms to 24h.
-    #[arg(long, default_value = "10m", value_parser = crate::options::value_parsers::executor_timeout, requires = "executor")]
-    pub executor_timeout: Duration,
-    /// Drives a program outside wogan (a controller, an executor) may fail in a row before the
-    /// run stops.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
-    pub max_failed_drives: u32,
-}
-
-/// `--executor`: the command after `cmd:`.
-fn executor_command(value: &str) -> Result<String, String> {
-    match value.strip_prefix("cmd:") {
-        Some(command) if !command.trim().is_empty() => Ok(command.to_owned()),
-        Some(_) => Err("cmd: names no command".into()),
-        None => Err(format!(
-            "{value:?}: give the executor as cmd:\"COMMAND ARGS\""
-        )),
-    }
+    #[command(flatten)]
+    pub executor: ExecutorOptions,
 }
 
 /// Curvature values per road unless `--curvature-points` says otherwise (the paper's).
@@ -210,6 +190,8 @@ pub struct RunPlan {
     pub save_generator: Option<PathBuf>,
     /// The saved generator every test is chosen with (`--generator`), if any.
     pub generator: Option<GeneratorPayload>,
+    /// The driver wogan's simulator drives the roads with, unless an executor does.
+    pub driver: DriverConfig,
     /// The external program that drives the roads (`--executor`), if any.
     pub executor: Option<ExecutorSettings>,
     /// Drives a controller or executor may fail in a row before the run stops.
@@ -244,8 +226,10 @@ pub struct RunSettings {
     pub min_road_turn_rad: f64,
     /// How drives are simulated and judged.
     pub sim: SimConfig,
-    /// The driver under test and its tuning (serialised as the tuning of that driver).
-    pub driver: DriverConfig,
+    /// The driver under test and its tuning (serialised as the tuning of that driver); none when
+    /// an executor drives.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub driver: Option<DriverConfig>,
     /// The search's settings.
     pub search: RunConfig,
     /// The saved generator the tests are chosen with, when one is.
@@ -254,7 +238,33 @@ pub struct RunSettings {
     /// The external program that drove the roads, when one did (`--executor`; recorded, never
     /// started from a file).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub executor: Option<String>,
+    pub executor: Option<ExecutorRecord>,
+}
+
+/// The executor that drove a run's roads, as its header records it: its command (recorded, never
+/// started from a file) and what it said of itself in its reply to `hello` (every field
+/// optional, absent when no executor answered before the run began).
+#[derive(Debug, Clone, Serialize)]
+pub struct ExecutorRecord {
+    /// The command, as typed after `cmd:`.
+    pub command: String,
+    /// Its name, version and own settings.
+    #[serde(flatten)]
+    pub description: ExecutorDescription,
+    /// How many roads one executor took at once.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub roads_at_once: Option<usize>,
+}
+
+impl ExecutorRecord {
+    /// The record of the executor run with `command`, before it has said anything.
+    pub fn command(command: String) -> Self {
+        Self {
+            command,
+            description: ExecutorDescription::default(),
+            roads_at_once: None,
+        }
+    }
 }
 
 /// Which saved generator a run chose its tests with, as its header records it.
@@ -442,9 +452,9 @@ impl RunPlan {
                 road_shape,
                 min_road_turn_rad,
                 sim,
-                driver,
+                driver: args.executor.executor.is_none().then(|| driver.clone()),
                 search,
-                executor: args.executor.clone(),
+                executor: args.executor.executor.clone().map(ExecutorRecord::command),
                 generator: args
                     .generator
                     .as_ref()
@@ -463,11 +473,9 @@ impl RunPlan {
             junit: args.junit.clone(),
             save_generator: args.save_generator.clone(),
             generator,
-            executor: args.executor.clone().map(|command| ExecutorSettings {
-                command,
-                timeout: args.executor_timeout,
-            }),
-            max_failed_drives: args.max_failed_drives as usize,
+            driver,
+            executor: args.executor.settings(),
+            max_failed_drives: args.executor.max_failed_drives as usize,
         })
     }
 
@@ -481,18 +489,23 @@ impl RunPlan {
         }
     }
 
-    /// The driver under test.
+    /// The driver under test (when an executor drives: the driver whose competition setup gave
+    /// the conditions told to it).
     pub fn driver_kind(&self) -> DriverKind {
-        self.settings.driver.kind()
+        self.driver.kind()
     }
 
-    /// The run's header record.
+    /// The run's header record. An executor's run names the executor, not a driver of wogan's
+    /// that it did not use.
     pub fn header(&self) -> Header<&RunSettings> {
         Header {
             version: VERSION.to_string(),
             seed: Some(self.seed),
             algorithm: self.algorithm_name().to_owned(),
-            driver: self.driver_kind(),
+            driver: match self.executor {
+                Some(_) => Oracle::Executor,
+                None => Oracle::Driver(self.driver_kind()),
+            },
             fitness: self.fitness,
             config: &self.settings,
         }

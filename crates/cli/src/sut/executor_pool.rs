@@ -149,9 +149,17 @@ impl ExecutorPool {
             if let Some(executor) = self.take_room(id, &request) {
                 return Ok(executor);
             }
-            let executor = Arc::new(self.start(id, stop)?);
+            let executor = Arc::new(self.start(Some(id), stop)?);
             lock(&self.executors).push(executor);
         }
+    }
+
+    /// Starts the first executor before any road (so that what it says of itself is known from
+    /// the start), once it has answered `hello`; its failure names no road.
+    pub fn start_first(&self, stop: &AtomicBool) -> Result<(), NoAnswer> {
+        let executor = Arc::new(self.start(None, stop)?);
+        lock(&self.executors).push(executor);
+        Ok(())
     }
 
     /// An executor with room that took `request` (road `id`), if any.
@@ -161,8 +169,9 @@ impl ExecutorPool {
         executors.iter().find(|e| e.take(id, request)).cloned()
     }
 
-    /// A new executor, once it has answered `hello`.
-    fn start(&self, id: u64, stop: &AtomicBool) -> Result<Executor, NoAnswer> {
+    /// A new executor, once it has answered `hello`; `id` is the road it is started for, if any,
+    /// which its failure names.
+    fn start(&self, id: Option<u64>, stop: &AtomicBool) -> Result<Executor, NoAnswer> {
         let hello = Request::Hello {
             protocol: PROTOCOL,
             version: VERSION,
@@ -172,20 +181,20 @@ impl ExecutorPool {
             speed_limit_kmh: self.hello.speed_limit_kmh,
         };
         let mut process = ChildProcess::start(&self.settings.command, &hello, &Request::Bye)
-            .map_err(|fault| NoAnswer::Failed(format!("road {id}: the executor: {fault}")))?;
+            .map_err(|fault| NoAnswer::Failed(failure(id, None, &fault.to_string())))?;
         let reply = match process.reply(self.settings.timeout, stop, parse_hello_reply) {
             Ok(Ok(reply)) => reply,
             Err(Fault::Stopped) => return Err(NoAnswer::Stopped),
             Ok(Err(problem)) => {
                 return Err(NoAnswer::Failed(failure(
                     id,
-                    &process,
+                    Some(&process),
                     &problem.to_string(),
                 )))
             }
             Err(fault) => {
                 let problem = format!("no reply to hello: {fault}");
-                return Err(NoAnswer::Failed(failure(id, &process, &problem)));
+                return Err(NoAnswer::Failed(failure(id, Some(&process), &problem)));
             }
         };
         let _ = self.roads_at_once.set(reply.roads_at_once);
@@ -370,10 +379,14 @@ impl Connection {
     }
 }
 
-/// Why road `id` failed with `process`: `problem`, and the tail of the executor's stderr.
-fn failure(id: u64, process: &ChildProcess, problem: &str) -> String {
-    let stderr = process.stderr_tail();
-    let mut reason = format!("road {id}: the executor: {problem}");
+/// Why road `id` (if the executor was started for one) failed with `process`: `problem`, and the
+/// tail of the executor's stderr.
+fn failure(id: Option<u64>, process: Option<&ChildProcess>, problem: &str) -> String {
+    let stderr = process.map(ChildProcess::stderr_tail).unwrap_or_default();
+    let mut reason = match id {
+        Some(id) => format!("road {id}: the executor: {problem}"),
+        None => format!("the executor: {problem}"),
+    };
     if !stderr.is_empty() {
         reason.push_str(&format!("; its stderr ended with:\n{stderr}"));
     }

@@ -30,19 +30,25 @@ pub const PROTOCOL: &str = "wogan-executor";
 /// The protocol's version.
 pub const VERSION: u32 = 3;
 /// Longest a drive may last in simulated seconds, as for wogan's own simulator.
-const MAX_SIM_TIME_S: f64 = road_sim::sim::MAX_SIM_TIME_S;
+pub const MAX_SIM_TIME_S: f64 = road_sim::sim::MAX_SIM_TIME_S;
 /// Farthest a point an executor names may lie from the map's origin, metres: the longest road.
-const MAX_COORDINATE_M: f64 = road_sim::validator::MAX_ROAD_LENGTH_M;
+pub const MAX_COORDINATE_M: f64 = road_sim::validator::MAX_ROAD_LENGTH_M;
 
 /// A line wogan writes to the executor.
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(test, derive(schemars::JsonSchema))]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum Request<'a> {
     /// The first line: what is spoken and how roads are judged.
     Hello {
-        /// Always [`PROTOCOL`].
+        /// The protocol's name, `wogan-executor`.
+        #[cfg_attr(test, schemars(schema_with = "super::protocol_schema::protocol_name"))]
         protocol: &'static str,
-        /// Always [`VERSION`].
+        /// The protocol's version, this one.
+        #[cfg_attr(
+            test,
+            schemars(schema_with = "super::protocol_schema::protocol_version")
+        )]
         version: u32,
         /// Units of every number: metres, seconds.
         units: &'static str,
@@ -55,7 +61,8 @@ pub enum Request<'a> {
     },
     /// A road to drive: its control points, as the competition's tests give them.
     Road {
-        /// The test's position in the run, from 1.
+        /// The road's number, unique among the roads in flight (in `run`, the order it was sent
+        /// in, from 1), which its answer names.
         id: usize,
         /// The road's points, metres.
         road_points: &'a [Point],

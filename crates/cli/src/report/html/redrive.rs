@@ -124,10 +124,15 @@ fn run_settings(run: &RunFile) -> Result<Settings, Refusal> {
         .header
         .as_ref()
         .ok_or_else(|| Refusal::BadHeader(anyhow::anyhow!("the run has no header")))?;
-    let kind = header.driver;
     if let Some(why) = header.executor_run() {
         return Err(Refusal::NotDrivable(anyhow::anyhow!(why)));
     }
+    let Some(kind) = header.driver else {
+        return Err(Refusal::NotDrivable(anyhow::anyhow!(
+            "its driver ({}) is not one of wogan's",
+            header.simulator
+        )));
+    };
     if DriverConfig::built_in(kind).is_none() {
         return Err(Refusal::NotDrivable(anyhow::anyhow!(
             "its driver ({kind}) is not built into wogan"

@@ -159,9 +159,7 @@ fn folder_header(dir: &Path, problems: &mut Vec<String>) -> (RunHeader, HarnessE
         settings: HeaderSettings::default(),
         map_size_m: MAP_SIZE_M,
         // Only the key's name is reported; a report never drives a test again.
-        driver: oracle
-            .and_then(|o| serde_json::from_value::<DriverKind>(o.clone()).ok())
-            .unwrap_or_default(),
+        driver: oracle.and_then(|o| serde_json::from_value::<DriverKind>(o.clone()).ok()),
         config: json!({"sim": {"oob_tolerance": oob, "speed_limit_kmh": speed}}),
         version: "-".to_owned(),
     };

@@ -156,13 +156,12 @@ impl OnnxModel {
             .map(|b| format!("{b:02x}"))
             .collect();
         // tract may panic on a malformed graph: that is a bad file, not a crash.
-        let loaded =
-            std::panic::catch_unwind(|| prepare(path, &data, layout)).unwrap_or_else(|_| {
-                Err(OnnxError::NotOnnx {
-                    path: path.to_owned(),
-                    reason: "tract failed reading it".into(),
-                })
-            })?;
+        let loaded = catch_quietly(|| prepare(path, &data, layout)).unwrap_or_else(|_| {
+            Err(OnnxError::NotOnnx {
+                path: path.to_owned(),
+                reason: "tract failed reading it".into(),
+            })
+        })?;
         let (input, outputs, plan) = loaded;
         let model = Self {
             path: path.to_owned(),
@@ -228,12 +227,35 @@ pub struct ModelState {
     outputs: usize,
 }
 
+thread_local! {
+    /// Set while this thread runs tract under [`catch_quietly`].
+    static QUIET: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// `f`, a panic of tract's caught (a malformed model is a bad file, not a crash) without the
+/// panic hook printing it as if the program had crashed; panics elsewhere print as before.
+fn catch_quietly<R>(f: impl FnOnce() -> R + std::panic::UnwindSafe) -> std::thread::Result<R> {
+    static HOOK: std::sync::Once = std::sync::Once::new();
+    HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET.with(std::cell::Cell::get) {
+                previous(info);
+            }
+        }));
+    });
+    QUIET.with(|quiet| quiet.set(true));
+    let result = std::panic::catch_unwind(f);
+    QUIET.with(|quiet| quiet.set(false));
+    result
+}
+
 impl ModelState {
     /// The model's answer (one or two numbers) to `input`, laid out as the model's input shape.
     pub fn run(&mut self, input: &[f32]) -> Result<[f32; 2], String> {
         let tensor = Tensor::from_shape(&self.dims, input).map_err(|e| format!("{e:#}"))?;
         let state = &mut self.state;
-        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let result = catch_quietly(std::panic::AssertUnwindSafe(|| {
             state.run(tvec![tensor.into_tvalue()])
         }))
         .map_err(|_| "tract failed running it".to_string())?
