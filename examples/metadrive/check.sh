@@ -82,13 +82,14 @@ for t in [t for t in tests if t["max_bolp"] > 0.05][:3]:
 PYTHONPATH=examples/metadrive "$py" - "$work"/trace/trace.*.jsonl <<'EOF' || bad "BOLP differs from wogan's"
 import json, sys
 import numpy as np
-import executor as ex
+from wogan_metadrive.lane_monitor import LaneMonitor
+from wogan_metadrive.road import build_road
 worst, samples = 0.0, 0
 for name in sys.argv[1:]:
     lines = [json.loads(line) for line in open(name)]
-    road = ex.build_road(lines[0]["road_points"])
+    road = build_road(lines[0]["road_points"])
     assert np.array_equal(road.centre, np.array(lines[0]["interpolated_points"])), "interpolation differs"
-    monitor = ex.LaneMonitor(road, 4.6, 1.9, 1.0)  # wogan's car
+    monitor = LaneMonitor(road, 4.6, 1.9, 1.0)  # wogan's car
     for s in lines[1:]:
         centre = np.array([s["x"], s["y"]])
         segment, lateral = monitor.project(centre)

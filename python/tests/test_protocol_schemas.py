@@ -1,13 +1,14 @@
-"""The executor protocol's JSON Schemas (docs/protocols/, written from wogan's Rust message types
-and checked against them there) hold both ends: every line the Python client writes validates
-against them, as do the lines wogan writes; what the client refuses to write, they refuse too."""
+"""The protocols' JSON Schemas (docs/protocols/, written from wogan's Rust message types and checked
+against them there) hold both ends: every line the Python client writes validates against them, as
+does every line a real wogan writes to an executor or a controller; what the client refuses to
+write, they refuse too."""
 
 import io
 import json
 import os
 
 import pytest
-from helpers import HERE
+from helpers import HERE, ROADS, command, wogan_cli
 
 import wogan
 
@@ -23,8 +24,8 @@ HELLO = {"type": "hello", "protocol": "wogan-executor", "version": 3, "units": "
          "map_size_m": 200.0, "oob_tolerance": 0.85, "speed_limit_kmh": 70.0}
 
 
-def schema(name):
-    with open(os.path.join(FOLDER, f"wogan-executor-v3.{name}.schema.json"), encoding="utf-8") as file:
+def schema(name, protocol="wogan-executor-v3"):
+    with open(os.path.join(FOLDER, f"{protocol}.{name}.schema.json"), encoding="utf-8") as file:
         loaded = json.load(file)
     jsonschema.Draft202012Validator.check_schema(loaded)
     return jsonschema.Draft202012Validator(loaded)
@@ -91,3 +92,48 @@ def test_the_schema_names_the_answers_required_fields_and_an_exit_point_needs_it
     assert errors(answer, {"max_bolp": 0.5}) and errors(answer, {"id": 1})
     assert errors(answer, {"id": 1, "max_bolp": 0.5, "oob_point": [1.0, 2.0]})
     assert errors(schema("hello-reply"), {"type": "hello", "protocol": "wogan-executor", "version": 2})
+
+
+def recorded(path):
+    with open(path, encoding="utf-8") as file:
+        return [json.loads(line) for line in file]
+
+
+def test_every_line_a_real_wogan_writes_to_an_executor_validates(tmp_path):
+    record = str(tmp_path / "executor.jsonl")
+    roads = "".join(json.dumps({"road_points": points}) + "\n" for points in ROADS)
+    ran = wogan_cli("simulate", "--jobs", "2", "--executor", f"{command('recording_peer.py')} executor {record}",
+                    input=roads)
+    assert ran.returncode == 0, ran.stderr
+    seen = recorded(record)
+    # Two executors (--jobs 2): each told hello and bye; every road sent once.
+    assert sorted(m["type"] for m in seen).count("road") == len(ROADS), seen
+    assert {m["type"] for m in seen} == {"hello", "road", "bye"}, seen
+    request = schema("request")
+    for message in seen:
+        assert errors(request, message) == [], message
+    replies = recorded(record + ".replies")
+    assert [errors(schema("hello-reply"), r) for r in replies if r.get("type") == "hello"] in ([[]], [[], []])
+    assert all(errors(schema("answer"), r) == [] for r in replies if "id" in r)
+
+
+@pytest.mark.parametrize("camera", [False, True])
+def test_every_line_a_real_wogan_writes_to_a_controller_validates(tmp_path, camera):
+    record = str(tmp_path / "controller.jsonl")
+    config = tmp_path / "config.json"
+    config.write_text(json.dumps({"driver": {"camera": camera}}))
+    roads = json.dumps({"road_points": ROADS[0]}) + "\n"
+    ran = wogan_cli("simulate", "--oracle", f"{command('recording_peer.py')} controller {record}",
+                    "--config", str(config), input=roads)
+    assert ran.returncode == 0, ran.stderr
+    seen = recorded(record)
+    kinds = [m["type"] for m in seen]
+    assert kinds[:2] == ["hello", "road"] and kinds.count("step") > 10 and kinds[-2:] == ["end", "bye"], kinds[:3]
+    request = schema("request", "wogan-controller-v2")
+    for message in seen:
+        assert errors(request, message) == [], {k: v for k, v in message.items() if k != "camera"}
+    assert all(("camera" in m) == camera for m in seen if m["type"] == "step")
+    reply = schema("reply", "wogan-controller-v2")
+    assert all(errors(reply, r) == [] for r in recorded(record + ".replies"))
+    # Past its bounds, a reply is refused by the schema as by wogan.
+    assert errors(reply, {"step": 1, "steering": 1.5, "throttle": 0.0, "brake": 0.0})

@@ -43,7 +43,7 @@ pub trait Driver {
 
 /// Centre-line segments (about 1 m each) before the road's end within which the car must
 /// project for the end to count as reached.
-const END_SEGMENTS: usize = 25;
+pub const END_SEGMENTS: usize = 25;
 
 /// The car's start: on the right lane's centre `offset_m` along the centre line from its first
 /// point, heading along the road. Returns the position and heading.

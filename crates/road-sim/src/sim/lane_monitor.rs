@@ -18,12 +18,16 @@ use crate::road::{polyline, Point, Road, LANE_WIDTH_M, ROAD_WIDTH_M};
 
 /// Centre-line points on each side of the car's projection that make up the lane window
 /// (the car's half-diagonal is 2.5 m and points are about 1 m apart).
-const WINDOW_BEHIND: usize = 6;
-const WINDOW_AHEAD: usize = 7;
+pub const WINDOW_BEHIND: usize = 6;
+/// As [`WINDOW_BEHIND`], ahead.
+pub const WINDOW_AHEAD: usize = 7;
 
 /// How far the lane reaches straight back behind the road's first point, metres: more than any
 /// car's length.
 pub const LEAD_IN_M: f64 = 10.0;
+/// Segments behind and ahead of the last one the car was projected on that its next position is
+/// looked for in (the projection never jumps to a far part of a road that loops back).
+pub const PROJECTION_WINDOW: (usize, usize) = (4, 30);
 
 /// One measurement of the car against its lane.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -118,7 +122,10 @@ impl LaneMonitor {
     /// The segment the car projects on (searched near the last one) and the signed lateral
     /// offset from the centre line.
     fn project(&mut self, p: Point) -> (usize, f64) {
-        let window = (self.segment.saturating_sub(4), self.segment + 30);
+        let window = (
+            self.segment.saturating_sub(PROJECTION_WINDOW.0),
+            self.segment + PROJECTION_WINDOW.1,
+        );
         let projection = polyline::project(p, &self.centre, Some(window));
         self.segment = projection.segment;
         (projection.segment, projection.lateral_m)

@@ -10,7 +10,7 @@ mod outcome;
 pub mod vehicle;
 
 pub use config::{SimConfig, MAX_PHYSICS_HZ, MAX_SIM_TIME_S};
-pub use episode::{simulate, start_pose, Driver, Observation};
+pub use episode::{simulate, start_pose, Driver, Observation, END_SEGMENTS};
 pub use fitness::{
     fitness_from_distance, FitnessKind, CENTRED_DISTANCE_M, FITNESS_FAILURE_DISTANCE_M,
 };
