@@ -12,6 +12,10 @@
 //! Two users share it, each with its own protocol on top: road-sim's controller driver
 //! (`--oracle cmd:...`) and the cli's executor (`wogan run --executor cmd:...`).
 
+mod reply_line;
+
+pub use reply_line::{answer_object, LineError, LineWords};
+
 use serde::Serialize;
 use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Read, Write};

@@ -20,7 +20,7 @@ use super::Status;
 use crate::files::json_lines::open_input;
 use crate::files::road_input::roads_of_lines;
 use crate::interrupt::stop_flag;
-use crate::options::driver_options::DriverOptions;
+use crate::options::driver_options::{DriverOptions, DrivingConfig};
 use anyhow::{bail, Context, Result};
 use child_process::printable;
 use clap::Args;
@@ -78,10 +78,8 @@ pub struct DatasetArgs {
     pub max_curvature: f64,
     #[command(flatten)]
     pub driver: DriverOptions,
-    /// JSON file overriding the simulation's and the driver's defaults, as `wogan simulate
-    /// --config` reads it.
-    #[arg(long, value_name = "FILE")]
-    pub config: Option<PathBuf>,
+    #[command(flatten)]
+    pub driving: DrivingConfig,
     /// Drives in a row that give no frame (the driver failed at the start) before the dataset
     /// stops, naming the driver's last error.
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
@@ -278,7 +276,7 @@ pub fn run(args: &DatasetArgs) -> Result<Status> {
     let stop = stop_flag()?;
     let (config, driver) = args
         .driver
-        .resolve_for_driving(args.config.as_deref(), "dataset")?;
+        .resolve_for_driving(args.driving.config.as_deref(), "dataset")?;
     let map_size_m = args.driver.map_size;
     let mut source = match &args.roads {
         Some(path) => RoadSource::File(FileRoads::open(path, map_size_m)?),

@@ -14,7 +14,7 @@ use crate::files::records::{Record, ReplayRecord};
 use crate::files::saved_roads::{read_saved_roads, SavedRoad};
 use crate::interrupt::stop_flag;
 use crate::jobs::{Jobs, Next};
-use crate::options::driver_options::DriverOptions;
+use crate::options::driver_options::{DriverOptions, DrivingConfig, RoadJobs};
 use crate::options::executor_options::ExecutorOptions;
 use crate::sut::failure_streak::FailureStreak;
 use crate::sut::ExecutorDriver;
@@ -35,13 +35,10 @@ pub struct ReplayArgs {
     pub driver: DriverOptions,
     #[command(flatten)]
     pub executor: ExecutorOptions,
-    /// JSON file overriding the simulation's and the driver's defaults (`{"sim": {...},
-    /// "driver": {...}}`, as `wogan simulate --config` reads it).
-    #[arg(long, value_name = "FILE")]
-    pub config: Option<PathBuf>,
-    /// Roads driven at once (output keeps the input order; results do not depend on it).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
-    pub jobs: u32,
+    #[command(flatten)]
+    pub driving: DrivingConfig,
+    #[command(flatten)]
+    pub jobs: RoadJobs,
     /// Also write a JUnit XML report to FILE: one test case per road.
     #[arg(long, value_name = "FILE")]
     pub junit: Option<PathBuf>,
@@ -80,7 +77,7 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
     let stop = stop_flag()?;
     let (sim, driver) = args
         .driver
-        .resolve_for_driving(args.config.as_deref(), "replay")?;
+        .resolve_for_driving(args.driving.config.as_deref(), "replay")?;
     let streak = FailureStreak::new(args.executor.max_failed_drives as usize);
     let executor = match args
         .executor
@@ -109,7 +106,7 @@ pub fn run(args: &ReplayArgs) -> Result<Status> {
         eprintln!("wogan replay: {problem}");
     }
     let validator = Validator::new(args.driver.map_size);
-    let jobs = Jobs::new(args.jobs as usize)?;
+    let jobs = Jobs::new(args.jobs.jobs as usize)?;
     let mut out = JsonLinesWriter::create(None)?;
     let mut replayed: Vec<(&SavedRoad, Replayed)> = Vec::with_capacity(roads.len());
     // Items are indices into `roads`.

@@ -7,7 +7,7 @@ use crate::files::json_lines::{open_input, JsonLinesWriter};
 use crate::files::records::{HelloRecord, InvalidOutcome, Record, ResultRecord, TraceRecord};
 use crate::files::sbst_format::execution_data;
 use crate::interrupt::stop_flag;
-use crate::options::driver_options::DriverOptions;
+use crate::options::driver_options::{DriverOptions, DrivingConfig, RoadJobs};
 use crate::options::executor_options::ExecutorOptions;
 use crate::sut::executor_protocol;
 use crate::sut::failure_streak::FailureStreak;
@@ -26,14 +26,10 @@ pub struct SimulateArgs {
     pub driver: DriverOptions,
     #[command(flatten)]
     pub executor: ExecutorOptions,
-    /// JSON file overriding the simulation's and the driver's defaults: `{"sim": {...},
-    /// "driver": {...}}`, as `wogan run --config` reads them (a `search` section is refused).
-    /// Options given on the command line win over the file.
-    #[arg(long, value_name = "FILE")]
-    pub config: Option<PathBuf>,
-    /// Roads simulated at once (output keeps the input order).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
-    pub jobs: u32,
+    #[command(flatten)]
+    pub driving: DrivingConfig,
+    #[command(flatten)]
+    pub jobs: RoadJobs,
     /// Write DIR/trace.N.jsonl for input line N: the road, then one sample per lane-monitor step
     /// (wogan's simulator only).
     #[arg(long, value_name = "DIR", conflicts_with = "executor")]
@@ -57,7 +53,7 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
     let validator = Validator::new(args.driver.map_size);
     let (config, driver) = args
         .driver
-        .resolve_for_driving(args.config.as_deref(), "simulate")?;
+        .resolve_for_driving(args.driving.config.as_deref(), "simulate")?;
     let max_steering_deg = config.vehicle.max_steering_rad.to_degrees();
     let sampled = args.trace.is_some() || args.execution_data;
     let streak = FailureStreak::new(args.executor.max_failed_drives as usize);
@@ -93,7 +89,7 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
         input,
         &mut out,
         args.driver.map_size,
-        args.jobs as usize,
+        args.jobs.jobs as usize,
         &stop,
         Some(hello_reply),
         |source, road| {

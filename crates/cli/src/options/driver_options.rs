@@ -17,6 +17,24 @@ use std::sync::Arc;
 /// The map's side unless `--map-size` says otherwise, metres (the competition's).
 pub const DEFAULT_MAP_SIZE_M: f64 = 200.0;
 
+/// `--config` of the commands that drive given roads (`simulate`, `replay`, `dataset`).
+#[derive(Debug, Clone, Args)]
+pub struct DrivingConfig {
+    /// JSON file overriding the simulation's and the driver's defaults: `{"sim": {...},
+    /// "driver": {...}}`, as `wogan run --config` reads them (a `search` section is refused).
+    /// Options given on the command line win over the file.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+/// `--jobs` of the commands that drive given roads (`simulate`, `replay`).
+#[derive(Debug, Clone, Args)]
+pub struct RoadJobs {
+    /// Roads driven at once (output keeps the input order; results do not depend on it).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
+    pub jobs: u32,
+}
+
 /// The driver under test and how it is judged.
 #[derive(Debug, Clone, Args)]
 pub struct DriverOptions {

@@ -283,85 +283,13 @@ pub struct GeneratorSource {
 impl RunPlan {
     /// Resolves `args` (and the config file it names) into a plan, or names what is wrong.
     pub fn resolve(args: &RunArgs) -> Result<Self> {
-        // No output may overwrite an input, nor another output.
-        let inputs = [&args.config, &args.driver.driver_weights, &args.generator];
-        let outputs = [
-            ("--out", &args.out),
-            ("--junit", &args.junit),
-            ("--save-generator", &args.save_generator),
-        ];
-        for (flag, output) in outputs {
-            let Some(output) = output else { continue };
-            if let Some(input) = inputs.into_iter().flatten().find(|i| same_file(output, i)) {
-                bail!(
-                    "{flag} {} is an input of the run ({}); write it elsewhere",
-                    output.display(),
-                    input.display()
-                );
-            }
-        }
-        for (i, (flag, output)) in outputs.iter().enumerate() {
-            for (other_flag, other) in &outputs[i + 1..] {
-                if let (Some(a), Some(b)) = (output, other) {
-                    if a == b || same_file(a, b) {
-                        bail!(
-                            "{other_flag} {} is the {flag} file too; give each its own file",
-                            b.display()
-                        );
-                    }
-                }
-            }
-        }
+        check_outputs(args)?;
         let kind = args.driver.kind();
         let setup = CompetitionSetup::of(kind);
         let file = ConfigFile::read_for(args.config.as_deref(), kind)?;
         let (sim, driver) = args.driver.resolve(&file)?;
         let fitness = args.fitness.unwrap_or(setup.fitness());
-        let mut search_defaults = RunConfig::default();
-        search_defaults.wogan.target_decay = default_target_decay(fitness, &sim);
-        if let Some(preset) = args.preset {
-            preset.apply(&mut search_defaults, kind);
-        }
-        let mut search = RunConfig {
-            algorithm: match args.algorithm {
-                AlgorithmArg::Wogan => Algorithm::Wogan,
-                AlgorithmArg::Random => Algorithm::Random,
-            },
-            jobs: args.jobs as usize,
-            ..config_file::lay_over(file.search.as_ref(), search_defaults, "search")?
-        };
-        if search.wogan.niches.quota > 0 && search.wogan.niches.min_fitness == 0.0 {
-            // Niches are filled by failures: unless told otherwise, the run's own.
-            search.wogan.niches.min_fitness = fitness.failure_level(&sim);
-        }
-        if let Some(init_fraction) = args.init_fraction {
-            search.wogan.init_fraction = init_fraction;
-        }
-        if search.algorithm != Algorithm::Wogan {
-            // How WOGAN chooses its proposals means nothing to random search: say so rather than
-            // ignore it.
-            let wogan_only = [
-                ("--mutation-share", args.mutation_share.is_some()),
-                ("--target-decay", args.target_decay.is_some()),
-                ("--round-acceptance", args.round_acceptance.is_some()),
-                ("--preset", args.preset.is_some()),
-                ("--save-generator", args.save_generator.is_some()),
-                ("--generator", args.generator.is_some()),
-            ];
-            if let Some((flag, _)) = wogan_only.iter().find(|(_, given)| *given) {
-                bail!("{flag} applies to --algorithm wogan only");
-            }
-        }
-        if let Some(share) = args.mutation_share {
-            search.wogan.mutation.share = share;
-        }
-        if let Some(decay) = args.target_decay {
-            search.wogan.target_decay = decay;
-        }
-        if let Some(rule) = args.round_acceptance {
-            search.wogan.round_acceptance = rule;
-        }
-        search.validate().context("invalid search settings")?;
+        let mut search = search_settings(args, kind, &file, fitness, &sim)?;
         let sbst = match (args.generation_budget, args.execution_budget) {
             (Some(generation), Some(execution)) => Some(SbstBudget {
                 generation,
@@ -373,63 +301,8 @@ impl RunPlan {
             Some(path) => Some(generator_file::read(path)?),
             None => None,
         };
-        let (curvature_points, road, road_shape, min_road_turn_rad) = match &generator {
-            Some(saved) => {
-                let typed = (
-                    args.curvature_points.unwrap_or(DEFAULT_CURVATURE_POINTS),
-                    args.step_length.unwrap_or(DEFAULT_STEP_M),
-                    args.driver.map_size,
-                );
-                let file = (
-                    saved.curvature_points as u32,
-                    saved.road.step_m,
-                    saved.road.map_size_m,
-                );
-                let defaults = (DEFAULT_CURVATURE_POINTS, DEFAULT_STEP_M, DEFAULT_MAP_SIZE_M);
-                if typed != file && typed != defaults {
-                    bail!(
-                        "--generator makes roads of {} curvature points, {} m apart, on a {} m map; \
-                         leave --curvature-points, --step-length and --map-size out, or give those",
-                        file.0,
-                        file.1,
-                        file.2
-                    );
-                }
-                // WOGAN's settings are the ones the networks were trained with.
-                search.wogan = saved.model.config.clone();
-                (
-                    saved.curvature_points as u32,
-                    saved.road,
-                    saved.road_shape,
-                    saved.min_road_turn_rad,
-                )
-            }
-            None => {
-                let preset = args.preset.map(|p| p.roads(kind));
-                (
-                    args.curvature_points
-                        .or(preset.map(|r| r.curvature_points))
-                        .unwrap_or(DEFAULT_CURVATURE_POINTS),
-                    CurvatureRoad {
-                        map_size_m: args.driver.map_size,
-                        step_m: args
-                            .step_length
-                            .or(preset.map(|r| r.step_m))
-                            .unwrap_or(DEFAULT_STEP_M),
-                        placement: args
-                            .road_placement
-                            .or(preset.map(|r| r.placement))
-                            .unwrap_or_default(),
-                    },
-                    args.road_shape
-                        .or(preset.map(|r| r.shape))
-                        .unwrap_or_default(),
-                    args.min_road_turn
-                        .or(preset.map(|r| r.min_turn_rad))
-                        .unwrap_or(0.0),
-                )
-            }
-        };
+        let (curvature_points, road, road_shape, min_road_turn_rad) =
+            road_settings(args, kind, generator.as_ref(), &mut search)?;
         let budget = Budget {
             max_tests: args.max_tests.map(|n| n as usize),
             wall: args.budget,
@@ -510,6 +383,164 @@ impl RunPlan {
             config: &self.settings,
         }
     }
+}
+
+/// Refuses an output that would overwrite an input of the run, or another output.
+fn check_outputs(args: &RunArgs) -> Result<()> {
+    let inputs = [&args.config, &args.driver.driver_weights, &args.generator];
+    let outputs = [
+        ("--out", &args.out),
+        ("--junit", &args.junit),
+        ("--save-generator", &args.save_generator),
+    ];
+    for (flag, output) in outputs {
+        let Some(output) = output else { continue };
+        if let Some(input) = inputs.into_iter().flatten().find(|i| same_file(output, i)) {
+            bail!(
+                "{flag} {} is an input of the run ({}); write it elsewhere",
+                output.display(),
+                input.display()
+            );
+        }
+    }
+    for (i, (flag, output)) in outputs.iter().enumerate() {
+        for (other_flag, other) in &outputs[i + 1..] {
+            if let (Some(a), Some(b)) = (output, other) {
+                if a == b || same_file(a, b) {
+                    bail!(
+                        "{other_flag} {} is the {flag} file too; give each its own file",
+                        b.display()
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// WOGAN's or random search's settings: the paper's (the decay matched to the fitness), the
+/// preset's, the config file's `search` section, then the options; checked.
+fn search_settings(
+    args: &RunArgs,
+    kind: DriverKind,
+    file: &ConfigFile,
+    fitness: FitnessKind,
+    sim: &SimConfig,
+) -> Result<RunConfig> {
+    let mut search_defaults = RunConfig::default();
+    search_defaults.wogan.target_decay = default_target_decay(fitness, sim);
+    if let Some(preset) = args.preset {
+        preset.apply(&mut search_defaults, kind);
+    }
+    let mut search = RunConfig {
+        algorithm: match args.algorithm {
+            AlgorithmArg::Wogan => Algorithm::Wogan,
+            AlgorithmArg::Random => Algorithm::Random,
+        },
+        jobs: args.jobs as usize,
+        ..config_file::lay_over(file.search.as_ref(), search_defaults, "search")?
+    };
+    if search.wogan.niches.quota > 0 && search.wogan.niches.min_fitness == 0.0 {
+        // Niches are filled by failures: unless told otherwise, the run's own.
+        search.wogan.niches.min_fitness = fitness.failure_level(sim);
+    }
+    if let Some(init_fraction) = args.init_fraction {
+        search.wogan.init_fraction = init_fraction;
+    }
+    if search.algorithm != Algorithm::Wogan {
+        // How WOGAN chooses its proposals means nothing to random search: say so rather than
+        // ignore it.
+        let wogan_only = [
+            ("--mutation-share", args.mutation_share.is_some()),
+            ("--target-decay", args.target_decay.is_some()),
+            ("--round-acceptance", args.round_acceptance.is_some()),
+            ("--preset", args.preset.is_some()),
+            ("--save-generator", args.save_generator.is_some()),
+            ("--generator", args.generator.is_some()),
+        ];
+        if let Some((flag, _)) = wogan_only.iter().find(|(_, given)| *given) {
+            bail!("{flag} applies to --algorithm wogan only");
+        }
+    }
+    if let Some(share) = args.mutation_share {
+        search.wogan.mutation.share = share;
+    }
+    if let Some(decay) = args.target_decay {
+        search.wogan.target_decay = decay;
+    }
+    if let Some(rule) = args.round_acceptance {
+        search.wogan.round_acceptance = rule;
+    }
+    search.validate().context("invalid search settings")?;
+    Ok(search)
+}
+
+/// How test vectors become roads (curvature values, step, placement, shape, least turn): a
+/// saved generator's (whose WOGAN settings then replace `search`'s), or the options' over the
+/// preset's over the paper's.
+fn road_settings(
+    args: &RunArgs,
+    kind: DriverKind,
+    generator: Option<&GeneratorPayload>,
+    search: &mut RunConfig,
+) -> Result<(u32, CurvatureRoad, RoadShape, f64)> {
+    Ok(match generator {
+        Some(saved) => {
+            let typed = (
+                args.curvature_points.unwrap_or(DEFAULT_CURVATURE_POINTS),
+                args.step_length.unwrap_or(DEFAULT_STEP_M),
+                args.driver.map_size,
+            );
+            let file = (
+                saved.curvature_points as u32,
+                saved.road.step_m,
+                saved.road.map_size_m,
+            );
+            let defaults = (DEFAULT_CURVATURE_POINTS, DEFAULT_STEP_M, DEFAULT_MAP_SIZE_M);
+            if typed != file && typed != defaults {
+                bail!(
+                    "--generator makes roads of {} curvature points, {} m apart, on a {} m map; \
+                     leave --curvature-points, --step-length and --map-size out, or give those",
+                    file.0,
+                    file.1,
+                    file.2
+                );
+            }
+            // WOGAN's settings are the ones the networks were trained with.
+            search.wogan = saved.model.config.clone();
+            (
+                saved.curvature_points as u32,
+                saved.road,
+                saved.road_shape,
+                saved.min_road_turn_rad,
+            )
+        }
+        None => {
+            let preset = args.preset.map(|p| p.roads(kind));
+            (
+                args.curvature_points
+                    .or(preset.map(|r| r.curvature_points))
+                    .unwrap_or(DEFAULT_CURVATURE_POINTS),
+                CurvatureRoad {
+                    map_size_m: args.driver.map_size,
+                    step_m: args
+                        .step_length
+                        .or(preset.map(|r| r.step_m))
+                        .unwrap_or(DEFAULT_STEP_M),
+                    placement: args
+                        .road_placement
+                        .or(preset.map(|r| r.placement))
+                        .unwrap_or_default(),
+                },
+                args.road_shape
+                    .or(preset.map(|r| r.shape))
+                    .unwrap_or_default(),
+                args.min_road_turn
+                    .or(preset.map(|r| r.min_turn_rad))
+                    .unwrap_or(0.0),
+            )
+        }
+    })
 }
 
 /// WOGAN's acceptance decay unless `--target-decay` or the config file says otherwise: the

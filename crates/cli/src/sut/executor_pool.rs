@@ -14,9 +14,9 @@
 //! asked (4)`).
 
 use super::executor_protocol::{
-    parse_hello_reply, ExecutorDescription, Request, PROTOCOL, VERSION,
+    parse_hello_reply, ExecutorDescription, Request, PROTOCOL, VERSION, WORDS,
 };
-use child_process::{ChildProcess, Fault};
+use child_process::{ChildProcess, Fault, LineError};
 use road_sim::Point;
 use serde_json::Value;
 use std::collections::{HashMap, HashSet};
@@ -330,9 +330,12 @@ impl Connection {
             Some(n) if self.answered.contains(&n) || self.mailbox.contains_key(&n) => {
                 Some(Err(self.fail(
                     id,
-                    &format!(
-                        "it wrote more than one line for one request (a second answer to road {n})"
-                    ),
+                    &LineError::Second {
+                        line: WORDS.line,
+                        request: WORDS.request,
+                        number: n,
+                    }
+                    .to_string(),
                 )))
             }
             // One road in flight: the line is its answer, whatever it names.

@@ -19,7 +19,7 @@
 //! answered: without a reply, a line an executor wrote before it had read anything was taken for
 //! road 1's answer, as nothing told it from one written after.
 
-use child_process::Echo;
+use child_process::{answer_object, LineError, LineWords};
 use road_sim::sim::CENTRED_DISTANCE_M;
 use road_sim::{Outcome, Point};
 use serde::Serialize;
@@ -122,7 +122,9 @@ pub struct HelloReply {
 /// Reads the executor's reply to `hello`: its own `hello`, of this protocol and version.
 pub fn parse_hello_reply(line: &str) -> Result<HelloReply, AnswerError> {
     let value: Value = serde_json::from_str(line).map_err(|e| not_json(line, &e))?;
-    let object = value.as_object().ok_or(AnswerError::NotObject)?;
+    let object = value
+        .as_object()
+        .ok_or(LineError::NotObject { line: WORDS.line })?;
     if object.get("type").and_then(Value::as_str) != Some("hello") {
         return Err(AnswerError::NoHello(child_process::quoted(line)));
     }
@@ -206,42 +208,38 @@ fn shown(value: Option<&Value>) -> String {
 
 /// A line that is not JSON: serde's reason and the line's start.
 fn not_json(line: &str, error: &serde_json::Error) -> AnswerError {
-    AnswerError::NotJson(format!("{error}: {}", child_process::quoted(line)))
+    AnswerError::Line(LineError::NotJson {
+        line: WORDS.line,
+        detail: format!("{error}: {}", child_process::quoted(line)),
+    })
 }
 
-/// Why an answer line is not an answer to the road asked; each names the field at fault.
+/// How the executor protocol names its lines, for the reading it shares with the controller
+/// protocol ([`answer_object`]).
+pub const WORDS: LineWords = LineWords {
+    line: "answer",
+    request: "road",
+    key: "id",
+    version: VERSION,
+};
+
+/// Why a line is not the executor's reply to `hello` or its answer to the road asked.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum AnswerError {
-    /// The line is not JSON.
-    #[error("the answer is not JSON: {0}")]
-    NotJson(String),
-    /// The line is JSON but not an object.
-    #[error("the answer is not a JSON object")]
-    NotObject,
+    /// Not a JSON object naming the road asked, or a field at fault (read as every protocol's
+    /// answers are: [`LineError`]).
+    #[error(transparent)]
+    Line(#[from] LineError),
     /// The executor's first line is not its reply to `hello`.
     #[error(
         "its first line is not its reply to hello (version {VERSION} executors answer hello before \
          any road; see wogan's docs/reference.md): {0}"
     )]
     NoHello(String),
-    /// A field is missing, of the wrong kind or out of range.
-    #[error("{field}: {problem}")]
-    Field {
-        /// The field's name.
-        field: &'static str,
-        /// What is wrong with it.
-        problem: String,
-    },
-    /// A second answer to a road this executor had already answered.
-    #[error("it wrote more than one line for one request (a second answer to road {0})")]
-    SecondAnswer(u64),
 }
 
 fn field(field: &'static str, problem: impl Into<String>) -> AnswerError {
-    AnswerError::Field {
-        field,
-        problem: problem.into(),
-    }
+    AnswerError::Line(LineError::field(field, problem))
 }
 
 /// Reads one answer line to road `asked`; `answered` is the road this executor answered before it,
@@ -255,22 +253,7 @@ pub fn parse_answer(
     oob_tolerance: f64,
     needs_lane_distance: bool,
 ) -> Result<Answer, AnswerError> {
-    let value: Value = serde_json::from_str(line).map_err(|e| not_json(line, &e))?;
-    let object = value.as_object().ok_or(AnswerError::NotObject)?;
-    match Echo::of(object.get("id"), asked, answered) {
-        Echo::Asked => {}
-        Echo::Repeat(id) => return Err(AnswerError::SecondAnswer(id)),
-        Echo::Other(id) => {
-            return Err(field("id", format!("{id} is not the road asked ({asked})")))
-        }
-        Echo::NotANumber => return Err(field("id", "not a road number")),
-        Echo::Missing => {
-            return Err(field(
-                "id",
-                format!("missing (version {VERSION} answers name their road)"),
-            ))
-        }
-    }
+    let object = answer_object(line, WORDS, asked, answered)?;
     let max_bolp = match object.get("max_bolp").map(Value::as_f64) {
         Some(Some(b)) if (0.0..=1.0).contains(&b) => b,
         Some(Some(b)) => return Err(field("max_bolp", format!("{b} is outside [0, 1]"))),

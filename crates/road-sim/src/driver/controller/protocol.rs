@@ -10,7 +10,7 @@
 //! pass for the reply to the next, and the car would be steered one step late from then on.
 
 use crate::road::Point;
-use child_process::Echo;
+use child_process::{answer_object, LineError, LineWords};
 use serde::Serialize;
 use serde_json::Value;
 
@@ -99,58 +99,28 @@ pub struct Reply {
     pub brake: f64,
 }
 
+/// How the controller protocol names its lines, for the reading it shares with the executor
+/// protocol ([`answer_object`]).
+const WORDS: LineWords = LineWords {
+    line: "reply",
+    request: "step",
+    key: "step",
+    version: VERSION,
+};
+
 /// Why a reply line is not a reply to the step asked; each names the field at fault.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ReplyError {
-    /// The line is not JSON.
-    #[error("the reply is not JSON: {0}")]
-    NotJson(String),
-    /// The line is JSON but not an object.
-    #[error("the reply is not a JSON object")]
-    NotObject,
-    /// A field is missing, of the wrong kind or out of range.
-    #[error("{field}: {problem}")]
-    Field {
-        /// The field's name.
-        field: &'static str,
-        /// What is wrong with it.
-        problem: String,
-    },
-    /// A second reply to a step this controller had already answered.
-    #[error("it wrote more than one line for one request (a second reply to step {0})")]
-    SecondReply(u64),
-}
+pub type ReplyError = LineError;
 
 /// Reads one reply line to step `asked`; `answered` is the step this controller replied to before
 /// it, if any (in this drive or the one before), so that a late second reply is named as such.
 pub fn parse_reply(line: &str, asked: u64, answered: Option<u64>) -> Result<Reply, ReplyError> {
-    let value: Value =
-        serde_json::from_str(line).map_err(|e| ReplyError::NotJson(e.to_string()))?;
-    let object = value.as_object().ok_or(ReplyError::NotObject)?;
-    let problem = |field: &'static str, problem: String| ReplyError::Field { field, problem };
-    match Echo::of(object.get("step"), asked, answered) {
-        Echo::Asked => {}
-        Echo::Repeat(step) => return Err(ReplyError::SecondReply(step)),
-        Echo::Other(step) => {
-            return Err(problem(
-                "step",
-                format!("{step} is not the step asked ({asked})"),
-            ))
-        }
-        Echo::NotANumber => return Err(problem("step", "not a step number".to_owned())),
-        Echo::Missing => {
-            return Err(problem(
-                "step",
-                format!("missing (version {VERSION} replies name their step)"),
-            ))
-        }
-    }
+    let object = answer_object(line, WORDS, asked, answered)?;
     let field = |name: &'static str, lo: f64| -> Result<f64, ReplyError> {
         match object.get(name).map(Value::as_f64) {
             Some(Some(v)) if (lo..=1.0).contains(&v) => Ok(v),
-            Some(Some(v)) => Err(problem(name, format!("{v} is outside [{lo}, 1]"))),
-            Some(None) => Err(problem(name, "not a number".to_owned())),
-            None => Err(problem(name, "missing".to_owned())),
+            Some(Some(v)) => Err(LineError::field(name, format!("{v} is outside [{lo}, 1]"))),
+            Some(None) => Err(LineError::field(name, "not a number")),
+            None => Err(LineError::field(name, "missing")),
         }
     };
     Ok(Reply {
