@@ -11,6 +11,8 @@ use serde_json::{Map, Value};
 pub struct LineWords {
     /// What the program writes: `answer`, `reply`.
     pub line: &'static str,
+    /// The same, more than one: `answers`, `replies`.
+    pub lines: &'static str,
     /// What the program is asked about: `road`, `step`.
     pub request: &'static str,
     /// The field of the line naming its request: `id`, `step`.
@@ -83,6 +85,7 @@ pub fn answer_object(
     };
     let LineWords {
         line: noun,
+        lines,
         request,
         key,
         version,
@@ -101,7 +104,7 @@ pub fn answer_object(
         Echo::NotANumber => Err(LineError::field(key, format!("not a {request} number"))),
         Echo::Missing => Err(LineError::field(
             key,
-            format!("missing (version {version} {noun}s name their {request})"),
+            format!("missing (version {version} {lines} name their {request})"),
         )),
     }
 }
@@ -112,6 +115,7 @@ mod tests {
 
     const WORDS: LineWords = LineWords {
         line: "answer",
+        lines: "answers",
         request: "road",
         key: "id",
         version: 3,

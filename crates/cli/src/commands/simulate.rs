@@ -95,12 +95,10 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
         |source, road| {
             let line = source.line;
             let verdict = validator.validate(road.points().unwrap_or_default());
-            match (verdict.reason, verdict.road) {
-                (None, Some(road)) if executor.is_some() => {
-                    let executor = executor.as_ref().expect("an executor");
-                    let points = road.road_points.clone();
+            match (verdict.reason, verdict.road, &executor) {
+                (None, Some(road), Some(executor)) => {
                     // The protocol's road id is the input line: unique among the roads in flight.
-                    match executor.drive(line as u64, &points, &road) {
+                    match executor.drive(line as u64, &road.road_points, &road) {
                         Some(result) => {
                             Answer::Record(Box::new(Record::Result(ResultRecord::Driven {
                                 line,
@@ -112,7 +110,7 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
                         None => Answer::Dropped,
                     }
                 }
-                (None, Some(road)) => {
+                (None, Some(road), None) => {
                     let mut result = simulate(
                         &road,
                         driver.build().as_mut(),
@@ -139,7 +137,7 @@ pub fn run(args: &SimulateArgs) -> Result<Status> {
                         execution_data,
                     })))
                 }
-                (reason, _) => {
+                (reason, _, _) => {
                     let reason = reason.unwrap_or(Reason::Malformed);
                     Answer::Record(Box::new(Record::Result(ResultRecord::Invalid {
                         line,

@@ -218,6 +218,7 @@ fn not_json(line: &str, error: &serde_json::Error) -> AnswerError {
 /// protocol ([`answer_object`]).
 pub const WORDS: LineWords = LineWords {
     line: "answer",
+    lines: "answers",
     request: "road",
     key: "id",
     version: VERSION,

@@ -103,6 +103,7 @@ pub struct Reply {
 /// protocol ([`answer_object`]).
 const WORDS: LineWords = LineWords {
     line: "reply",
+    lines: "replies",
     request: "step",
     key: "step",
     version: VERSION,
