@@ -8,7 +8,9 @@
 #
 # ORACLES: wogan's drivers, or metadrive-idm / metadrive-expert: MetaDrive's executor
 # (examples/metadrive/, after its setup.sh) with that policy, at wogan's default conditions (0.85
-# tolerance, 70 km/h), answering with the pipeline's execution data.
+# tolerance, 70 km/h), answering with the pipeline's execution data. SPEED_LIMIT=46 drives at 46
+# km/h instead (MetaDrive's IDM calibrated: examples/metadrive/README.md); its folders are named
+# ORACLE@46.TOOL.SEED.
 # TOOLS: any of random freneticv ambiegen adafrenetic frenetic2021 (default: all). Each run is a
 # result folder target/peers/ORACLE.TOOL.SEED/ (the pipeline's test.NNNN.json files, run.log,
 # tests.jsonl, summary.json); a folder with a summary.json is kept, one without or whose summary
@@ -52,7 +54,7 @@ for oracle in $oracles; do
   for tool in $tools; do
     read -r venv checkout options <<< "$(generator "$tool")"
     for seed in $seeds; do
-      folder="$out/$oracle.$tool.$seed"
+      folder="$out/$oracle${SPEED_LIMIT:+@$SPEED_LIMIT}.$tool.$seed"
       # A run cut short by a signal writes its summary too, naming the signal (run_peer.py's
       # json.dump spacing): it is run again.
       if [ -f "$folder/summary.json" ] && ! grep -q '"interrupted": "' "$folder/summary.json"; then
@@ -66,7 +68,7 @@ for oracle in $oracles; do
       esac
       # shellcheck disable=SC2086 # options are words
       "$peers/$venv/bin/python" scripts/peers/run_peer.py --pipeline "$peers/$checkout" $options \
-        "${drive[@]}" --oracle "$oracle" --seed "$seed" --out "$folder" \
+        "${drive[@]}" ${SPEED_LIMIT:+--speed-limit "$SPEED_LIMIT"} --oracle "$oracle" --seed "$seed" --out "$folder" \
         > "$folder.log" 2>&1 || true
       if [ -f "$folder/summary.json" ]; then
         echo "$oracle $tool seed $seed: $(cut -c1-400 "$folder/summary.json")"
