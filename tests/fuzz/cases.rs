@@ -103,6 +103,7 @@ pub(super) fn generate(corpus: &Corpus, seed: u64, index: usize) -> Case {
         Target::Replay => replay_case(rng, corpus, &mut case),
         Target::Suite => suite_case(rng, corpus, &mut case),
         Target::Sample => sample_case(rng, corpus, &mut case),
+        Target::Dataset => dataset_case(rng, corpus, &mut case),
     }
     case
 }
@@ -437,6 +438,51 @@ pub(super) fn camera_case(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case
         let size = float_arg(rng, wild, 0.0, MAX_MAP_SIZE_M, (50.0, 1000.0));
         case.opt(rng, "--map-size", size);
     }
+    stray_argument(rng, case, wild);
+}
+
+pub(super) fn dataset_case(rng: &mut ChaCha8Rng, corpus: &Corpus, case: &mut Case) {
+    let wild = chance(rng, 0.4);
+    // Few frames: every valid count is work, so the wild ones are the invalid counts only.
+    let frames = if wild && chance(rng, 0.3) {
+        pick(rng, &["0", "-1", "10000001", "1e9", "x", ""]).to_string()
+    } else {
+        rng.random_range(1..=20u32).to_string()
+    };
+    case.opt(rng, "--frames", frames);
+    let out = if wild && chance(rng, 0.2) {
+        *pick(rng, &["roads.jsonl", "/dev/null", "", "."])
+    } else {
+        "data"
+    };
+    case.opt(rng, "--out", out);
+    if chance(rng, 0.5) {
+        // The roads to drive, from a file of lines `validate` reads (fuzzed), else random ones.
+        let roads = input_lines(rng, corpus, &mut case.notes);
+        case.file("roads.jsonl", roads);
+        case.opt(rng, "--roads", "roads.jsonl");
+    }
+    if chance(rng, 0.3) {
+        let contract = name_arg(rng, wild, &["udacity", "sbst2022"]);
+        case.opt(rng, "--contract", contract);
+    }
+    if chance(rng, 0.3) {
+        let hz = float_arg(rng, wild, 0.1, 60.0, (5.0, 30.0));
+        case.opt(rng, "--record-hz", hz);
+    }
+    if chance(rng, 0.3) {
+        let curvature = float_arg(rng, wild, 0.0, 0.3, (0.005, 0.07));
+        case.opt(rng, "--max-curvature", curvature);
+    }
+    if chance(rng, 0.3) {
+        let failed = int_arg(rng, wild, 1, 1000, (1, 5));
+        case.opt(rng, "--max-failed-drives", failed);
+    }
+    if chance(rng, 0.3) {
+        let seed = int_arg(rng, wild, 0, u64::MAX as i128, (0, 1000));
+        case.opt(rng, "--seed", seed);
+    }
+    driver_options(rng, corpus, case, wild);
     stray_argument(rng, case, wild);
 }
 

@@ -196,10 +196,11 @@ pub(super) enum Target {
     Replay,
     Suite,
     Sample,
+    Dataset,
 }
 
 impl Target {
-    const ALL: [Target; 9] = [
+    const ALL: [Target; 10] = [
         Target::Validate,
         Target::Simulate,
         Target::Run,
@@ -209,6 +210,7 @@ impl Target {
         Target::Replay,
         Target::Suite,
         Target::Sample,
+        Target::Dataset,
     ];
 
     pub(super) fn name(self) -> &'static str {
@@ -222,6 +224,7 @@ impl Target {
             Target::Replay => "replay",
             Target::Suite => "suite",
             Target::Sample => "sample",
+            Target::Dataset => "dataset",
         }
     }
 
