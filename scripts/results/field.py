@@ -123,6 +123,9 @@ def kept_row(tables, index, name, column):
     if row is None or name in ("tool", "B"):
         return None
     cells = row.strip().strip("|").split("|")
+    # A row the page had without runs has nothing to keep.
+    if all(c.replace(KEPT, "").strip() in ("0", "–") for c in cells[1:]):
+        return None
     if KEPT not in cells[column]:
         cells[column] = f"{cells[column].rstrip()} {KEPT} "
     return "|" + "|".join(cells) + "|"

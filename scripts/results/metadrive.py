@@ -1,14 +1,17 @@
 """Section `metadrive`: searches against MetaDrive through examples/metadrive/'s executor
 (target/metadrive/, made by scripts/runs/metadrive_runs.sh), the field in MetaDrive
-(target/peers/metadrive-*), and the `--jobs 2` speed-up (target/metadrive-speed/).
+(target/peers/metadrive-*), and the `--jobs 2` speed-up (target/metadrive-speed/); and section
+`metadrive-idm46`: the field on MetaDrive's calibrated IDM (target/metadrive-idm46/,
+target/peers/metadrive-idm@46.*).
 """
 
 import glob
 import os
 import statistics
 
+import field
 from common import num, out, read_jsonl
-from field import PEERS, compared, group_means, peer_runs, rounded, runs_of
+from field import FIELD_COMPARED, PEERS, compared, group_means, peer_runs, rounded, runs_of
 
 
 # ---------------------------------------------------------------------------------------------
@@ -177,3 +180,92 @@ def metadrive_speedup():
                     f"else running): {num(r2)} tests per wall minute against {num(r1)} with one "
                     f"executor on the same seeds, {num(r2 / r1, 2)}x (two MetaDrive executors on a "
                     "2-core machine).")
+
+
+# ---------------------------------------------------------------------------------------------
+# The field on MetaDrive's calibrated IDM (issue 70, part 3): wogan's searches
+# (`SPEED_LIMIT=46 OUT=target/metadrive-idm46 scripts/runs/metadrive_runs.sh idm SEEDS 1h 2h`) and
+# every peer (`SPEED_LIMIT=46 scripts/peers/campaign.sh metadrive-idm`, folders
+# target/peers/metadrive-idm@46.TOOL.SEED) on the same subject, tabled as the field on our
+# simulator is.
+CALIBRATED_RUNS = "target/metadrive-idm46"
+CALIBRATED_PEERS = "metadrive-idm@46"
+CALIBRATED_ROWS = [("tests executed", "tests"), ("failures", "failures"),
+                   ("distinct failures (", "distinct failures"), ("diversity (", "diversity"),
+                   ("angle diversity (", "angle diversity")]
+CALIBRATED_HEADING = "The field on MetaDrive's calibrated IDM"
+
+
+def calibrated_idm_section():
+    out()
+    out(f"## {CALIBRATED_HEADING}")
+    out()
+    out("MetaDrive's IDM at 46 km/h, where it fails 10.6% of the SBST 2022 entries' roads (\"MetaDrive's "
+        "subjects calibrated\" above), under the competition's budgets (`--generation-budget 1h "
+        "--execution-budget 2h`), tolerance 0.85, one MetaDrive executor per run. wogan's searches: "
+        "`SPEED_LIMIT=46 OUT=target/metadrive-idm46 scripts/runs/metadrive_runs.sh idm SEEDS 1h 2h`; "
+        "the peers, unchanged, in the competition's pipeline with MetaDrive's executor answering "
+        "with the pipeline's execution data: `SPEED_LIMIT=46 PEERS_HOME=... scripts/peers/campaign.sh "
+        "metadrive-idm SEEDS TOOLS`. Figures are `wogan report`'s, computed the same way for every "
+        "run, means over runs (their number beside them); measures as in \"The SBST 2022 field on "
+        "our simulator\". A row with 0 runs was not run on the machine that made this page. The "
+        "campaign's log: docs/experiments/2026-12-07-field-on-calibrated-idm-first-look.md.")
+    page = field.page_tables(CALIBRATED_HEADING, "`--policy idm` at 46 km/h")
+    kept = False
+    ours = dict(field.OURS)
+    groups = [(ours[tag], finished(runs_of(f"{CALIBRATED_RUNS}/idm.{tag}")))
+              for tag in ("preset-sbst", "wogan", "random")]
+    groups += [(name, peer_runs(CALIBRATED_PEERS, tool)) for tool, name in PEERS]
+    out()
+    out("### `--policy idm` at 46 km/h")
+    out()
+    out("| search | runs | " + " | ".join(label for _, label in CALIBRATED_ROWS) + " |")
+    out("|---|---|" + "---|" * len(CALIBRATED_ROWS))
+    for name, paths in groups:
+        if not paths:
+            row = field.kept_row(page, 0, name, 1)
+            kept |= row is not None
+            out(row or f"| {name} | 0 |" + " – |" * len(CALIBRATED_ROWS))
+            continue
+        figures = group_means(paths)
+        cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
+                 for key, _ in CALIBRATED_ROWS]
+        out(f"| {name} | {field.runs_cell(paths)} | " + " | ".join(cells) + " |")
+    preset = groups[0][1]
+    if preset:
+        out()
+        out("`--preset sbst` (A) against each other row (B), Mann–Whitney U, two-sided "
+            "(`wogan report A --vs B --table`):")
+        out()
+        out("| B | " + " | ".join(f"{m}: A / B, p" for m in FIELD_COMPARED) + " |")
+        out("|---|" + "---|" * len(FIELD_COMPARED))
+        behind, missing = [], []
+        for name, paths in groups[1:]:
+            if not paths:
+                row = field.kept_row(page, 1, name, 0)
+                kept |= row is not None
+                if row:
+                    out(row)
+                    cells = [c.strip() for c in row.strip().strip("|").split("|")][1:]
+                    behind += field.behind_on(name, dict(zip(FIELD_COMPARED, cells)))
+                else:
+                    missing.append(name)
+                continue
+            rows = compared(preset, paths, FIELD_COMPARED)
+            out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
+            behind += field.behind_on(name, rows)
+        if kept:
+            out()
+            out(field.kept_note(field.page_commit()))
+        out()
+        if behind:
+            out("Where `--preset sbst` is behind (A below B, p < 0.05): " + "; ".join(behind) + ".")
+        else:
+            out("`--preset sbst` is behind no row on these figures (A below B, p < 0.05)"
+                + (f"; not compared, no runs: {', '.join(missing)}." if missing else "."))
+    wogan_runs, random_runs = groups[1][1], groups[2][1]
+    if wogan_runs and random_runs:
+        rows = compared(wogan_runs, random_runs, FIELD_COMPARED)
+        out()
+        out("The paper's WOGAN (A) against random search (B): " + "; ".join(
+            f"{m} {rows.get(m, '–')}" for m in FIELD_COMPARED) + ".")

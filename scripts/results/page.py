@@ -17,8 +17,9 @@ from common import lines, split
 from field import field_section
 from generator import generator_section
 from keras_loop import keras_section
-from metadrive import metadrive_section
+from metadrive import calibrated_idm_section, metadrive_section
 from metadrive_calibration import metadrive_calibration_section
+from release import release_section
 from reference_roads import fidelity_section, long_roads_section, reference_roads_section
 from sbst import sbst_section
 from sbst_preset import sbst_preset_section
@@ -48,9 +49,11 @@ def sections(bench):
         ("sbst-preset", sbst_preset_section),
         ("metadrive", metadrive_section),
         ("metadrive-calibration", metadrive_calibration_section),
+        ("metadrive-idm46", calibrated_idm_section),
         ("keras", keras_section),
         ("generator", generator_section),
         ("ci", ci_section),
+        ("release", release_section),
         ("plug-points", plug_points_section),
         ("rounds", rounds_section),
         ("every-core", every_core_section),

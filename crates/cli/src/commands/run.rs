@@ -33,22 +33,18 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
     let settings = &plan.settings;
     let streak = FailureStreak::new(plan.max_failed_drives);
     let executor = plan.executor.as_ref().map(|executor| {
-        let hello = HelloSettings {
-            map_size_m: settings.road.map_size_m,
-            oob_tolerance: settings.sim.oob_tolerance,
-            speed_limit_kmh: settings.sim.speed_limit_kmh,
-        };
+        let hello = HelloSettings::of(settings.road.map_size_m, &settings.sim);
         let needs_lane_distance = plan.fitness == FitnessKind::Distance;
         ExecutorDriver::new(executor.clone(), hello, needs_lane_distance, &streak, stop)
     });
     // The first executor answers `hello` before the header is written, which records what it
     // said of itself; one that cannot even be started ends the run.
     let not_started = executor.as_ref().and_then(|e| e.start().err());
+    let described = executor.as_ref().and_then(ExecutorDriver::description);
     let mut recorded = settings.clone();
-    if let (Some(record), Some((description, roads_at_once))) = (
-        recorded.executor.as_mut(),
-        executor.as_ref().and_then(ExecutorDriver::description),
-    ) {
+    if let (Some(record), Some((description, roads_at_once))) =
+        (recorded.executor.as_mut(), described.clone())
+    {
         record.description = description;
         record.roads_at_once = Some(roads_at_once);
     }
@@ -99,14 +95,12 @@ fn execute(plan: &RunPlan, stop: &AtomicBool) -> Result<Status> {
         (None, None) => search(&sut, plan, stop, &mut on_event).map_err(|e| e.to_string()),
     };
     let gave_up = streak.gave_up();
-    let described = executor
-        .as_ref()
-        .and_then(ExecutorDriver::description)
-        .and_then(|(description, roads_at_once)| {
-            let mut described = serde_json::to_value(description).ok()?;
-            described["roads_at_once"] = roads_at_once.into();
-            Some(described)
-        });
+    // The summary repeats the header's description, for readers of the older summaries.
+    let described = described.and_then(|(description, roads_at_once)| {
+        let mut described = serde_json::to_value(description).ok()?;
+        described["roads_at_once"] = roads_at_once.into();
+        Some(described)
+    });
     // The executors end (and are reaped) before the summary is written.
     drop(executor);
     progress.finish();

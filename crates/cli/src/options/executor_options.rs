@@ -49,11 +49,7 @@ impl ExecutorOptions {
         let Some(settings) = self.settings() else {
             return Ok(None);
         };
-        let hello = HelloSettings {
-            map_size_m,
-            oob_tolerance: sim.oob_tolerance,
-            speed_limit_kmh: sim.speed_limit_kmh,
-        };
+        let hello = HelloSettings::of(map_size_m, sim);
         let driver = ExecutorDriver::new(settings, hello, false, streak, stop);
         driver.start()?;
         Ok(Some(driver))

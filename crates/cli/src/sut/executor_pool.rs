@@ -17,7 +17,7 @@ use super::executor_protocol::{
     parse_hello_reply, ExecutorDescription, Request, PROTOCOL, VERSION, WORDS,
 };
 use child_process::{ChildProcess, Fault, LineError};
-use road_sim::Point;
+use road_sim::{Point, SimConfig};
 use serde_json::Value;
 use std::collections::{HashMap, HashSet};
 use std::sync::atomic::AtomicBool;
@@ -36,6 +36,18 @@ pub struct HelloSettings {
     pub oob_tolerance: f64,
     /// The speed limit, km/h.
     pub speed_limit_kmh: f64,
+}
+
+impl HelloSettings {
+    /// What `hello` tells an executor driving roads of a `map_size_m` map under `sim`'s
+    /// conditions.
+    pub fn of(map_size_m: f64, sim: &SimConfig) -> Self {
+        Self {
+            map_size_m,
+            oob_tolerance: sim.oob_tolerance,
+            speed_limit_kmh: sim.speed_limit_kmh,
+        }
+    }
 }
 
 /// A road's answer line, and whether it named the road (else it was taken as the answer of the
