@@ -17,8 +17,8 @@
 # The sdist's build compiles into CARGO_TARGET_DIR when it is set (CI points it at the workspace's
 # target/, so the dependencies compiled for the tests are reused and only the workspace's crates
 # are compiled from the sdist); otherwise into the unpacked directory, cold
-# (scripts/bench/cold_build.sh measures that). The client's tests run in a network namespace with loopback alone when this
-# runs as root (as in CI), like .ci/run's.
+# (scripts/bench/cold_build.sh measures that). The client's tests run in a network namespace with
+# loopback alone when this runs as root (as in CI), like .ci/run's.
 set -euo pipefail
 [ $# -eq 1 ] || { echo "usage: scripts/release/check.sh DIR" >&2; exit 2; }
 dist=$(realpath "$1")
