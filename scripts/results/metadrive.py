@@ -257,12 +257,18 @@ def calibrated_idm_section():
         if kept:
             out()
             out(field.kept_note(field.page_commit()))
+        # The bar for the peers on this subject: 5 runs each, AmbieGen 3.
+        few = [f"{name} ({len(paths)})" for name, paths in groups[3:]
+               if 0 < len(paths) < (3 if name == "AmbieGen" else 5)]
+        caveats = ([f"not compared, no runs: {', '.join(missing)}"] if missing else []) + (
+            [f"too few runs yet to judge (5 needed, AmbieGen 3): {', '.join(few)}"] if few else [])
         out()
         if behind:
-            out("Where `--preset sbst` is behind (A below B, p < 0.05): " + "; ".join(behind) + ".")
+            out("Where `--preset sbst` is behind (A below B, p < 0.05): " + "; ".join(behind)
+                + "".join(f"; {c}" for c in caveats) + ".")
         else:
             out("`--preset sbst` is behind no row on these figures (A below B, p < 0.05)"
-                + (f"; not compared, no runs: {', '.join(missing)}." if missing else "."))
+                + "".join(f"; {c}" for c in caveats) + ".")
     wogan_runs, random_runs = groups[1][1], groups[2][1]
     if wogan_runs and random_runs:
         rows = compared(wogan_runs, random_runs, FIELD_COMPARED)
