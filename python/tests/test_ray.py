@@ -311,10 +311,18 @@ def test_a_worker_node_killed_mid_run_loses_no_test(cluster, tmp_path):
     assert_nothing_left()
 
 
+def default_signals():
+    """In the pool's process before it starts: Ctrl-C and quit as a terminal delivers them. A
+    shell without job control starts its background commands with both ignored, and a test run
+    from such a command would otherwise hand that on."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGQUIT, signal.SIG_DFL)
+
+
 def serve(args, *lines, env=None):
     """The pool started by hand: `args`, its hello (and `lines`) written, the process."""
     process = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                               text=True, env=env)
+                               text=True, env=env, preexec_fn=default_signals)
     for message in (HELLO, *lines):
         process.stdin.write(json.dumps(message) + "\n")
     process.stdin.flush()
@@ -364,8 +372,15 @@ def test_the_end_leaves_no_actor_and_no_process(cluster, tmp_path, end, status):
         process.stdin.close()
     else:
         process.send_signal(end)
+    # Bounded: a pool that does not end fails the test instead of holding it (its output is a line
+    # or two, which the pipes hold while it is waited for).
+    try:
+        process.wait(timeout=120)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait()
+        raise AssertionError(f"the pool did not end within 120 s of {end}")
     answers = [json.loads(line) for line in process.stdout.read().splitlines()]
-    process.wait(timeout=60)
     assert process.returncode == status, process.stderr.read()
     assert [a["id"] for a in answers] == ([1] if end == "bye" else []), answers
     assert_nothing_left()
