@@ -59,6 +59,13 @@ def group_means(paths):
     return figures
 
 
+def mean_cells(paths, keys):
+    """The group's mean of each measure whose name starts with a key in `keys`, rounded as the
+    page writes numbers ("–" where the report has none)."""
+    figures = group_means(paths)
+    return [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0]) for key in keys]
+
+
 def runs_of(prefix):
     """Every run file PREFIX.SEED.jsonl there is, in seed order (more seeds than SEEDS where a
     comparison needed them)."""
@@ -218,11 +225,7 @@ def field_section():
                 kept |= row is not None
                 out(row or f"| {name} | 0 |" + " – |" * len(FIELD_ROWS))
                 continue
-            figures = group_means(paths)
-            cells = []
-            for key, _ in FIELD_ROWS:
-                found = next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))
-                cells.append(rounded(found[0]))
+            cells = mean_cells(paths, [key for key, _ in FIELD_ROWS])
             out(f"| {name} | {runs_cell(paths)} | " + " | ".join(cells) + " |")
         preset = groups[0][1]
         if not preset:

@@ -11,7 +11,7 @@ import statistics
 
 import field
 from common import num, out, read_jsonl
-from field import FIELD_COMPARED, PEERS, compared, group_means, peer_runs, rounded, runs_of
+from field import FIELD_COMPARED, PEERS, compared, mean_cells, peer_runs, runs_of
 
 
 # ---------------------------------------------------------------------------------------------
@@ -20,6 +20,8 @@ from field import FIELD_COMPARED, PEERS, compared, group_means, peer_runs, round
 METADRIVE_ALGORITHMS = [("random", "random search"), ("wogan", "the paper's WOGAN"),
                         ("preset-sbst", "`--preset sbst`")]
 METADRIVE_COMPARED = ("failures per run", "distinct failures per run", "diversity")
+# The measures of each row of its tables (`wogan report`'s names, by their start).
+METADRIVE_ROWS = ("tests executed", "failures", "distinct failures (", "diversity (")
 # The same searches climbing the lane distance (`--fitness distance`: the executor's
 # `min_lane_distance_m`), made where BOLP is flat; listed when their runs exist, each compared
 # with random search on the same fitness.
@@ -93,17 +95,13 @@ def metadrive_section():
             if not paths:
                 out(f"| {name} | 0 | – | – | – | – | – |")
                 continue
-            figures = group_means(paths)
-            cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
-                     for key in ("tests executed", "failures", "distinct failures (", "diversity (")]
+            cells = mean_cells(paths, METADRIVE_ROWS)
             rate = tests_per_wall_minute(paths)
             out(f"| {name} | {len(paths)} | " + " | ".join(cells) + f" | {num(rate) if rate else '–'} |")
         distance = [(name, finished(runs_of(f"target/metadrive/{policy}.{tag}"))) for tag, name in METADRIVE_DISTANCE]
         distance = distance if all(paths for _, paths in distance) else []
         for name, paths in distance:
-            figures = group_means(paths)
-            cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
-                     for key in ("tests executed", "failures", "distinct failures (", "diversity (")]
+            cells = mean_cells(paths, METADRIVE_ROWS)
             rate = tests_per_wall_minute(paths)
             out(f"| {name} | {len(paths)} | " + " | ".join(cells) + f" | {num(rate) if rate else '–'} |")
         comparisons = [(groups[0], groups[1:])]
@@ -146,9 +144,7 @@ def metadrive_field(policy, groups):
     out("| tool | runs | tests | failures | distinct failures | diversity |")
     out("|---|---|---|---|---|---|")
     for name, paths in peers:
-        figures = group_means(paths)
-        cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
-                 for key in ("tests executed", "failures", "distinct failures (", "diversity (")]
+        cells = mean_cells(paths, METADRIVE_ROWS)
         out(f"| {name} | {len(paths)} | " + " | ".join(cells) + " |")
     for ours, mine in groups[1:]:
         if not mine:
@@ -227,9 +223,7 @@ def calibrated_idm_section():
             kept |= row is not None
             out(row or f"| {name} | 0 |" + " – |" * len(CALIBRATED_ROWS))
             continue
-        figures = group_means(paths)
-        cells = [rounded(next((v for k, v in figures.items() if k.startswith(key)), ("–", ""))[0])
-                 for key, _ in CALIBRATED_ROWS]
+        cells = mean_cells(paths, [key for key, _ in CALIBRATED_ROWS])
         out(f"| {name} | {field.runs_cell(paths)} | " + " | ".join(cells) + " |")
     preset = groups[0][1]
     if preset:
