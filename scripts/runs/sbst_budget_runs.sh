@@ -7,7 +7,8 @@
 #   scripts/runs/sbst_budget_runs.sh beamng-ai-proxy "$(seq -s ' ' 1 20)" 1h 2h
 #
 # ALGORITHMS chooses the algorithms (default "wogan random"; "preset-sbst" is WOGAN with
-# `--preset sbst`, "preset-sbst-any-road" the same with `--min-road-turn 0`). Runs go to target/sbst/ as
+# `--preset sbst`, "preset-sbst-any-road" the same with `--min-road-turn 0`, "preset-sbst-remakes"
+# the same with failures' remakes, scripts/runs/configs/remakes.json). Runs go to target/sbst/ as
 # ORACLE.ALGORITHM.SEED.jsonl, exports to target/sbst/export/ORACLE.ALGORITHM.SEED/, the report to
 # target/sbst/report-ORACLE/. With REUSE=1 a run whose file ends with its summary is kept. With
 # EXPORT=0 the runs are not exported (scripts/results/ reads only the run files; a long run's
@@ -34,6 +35,7 @@ for algorithm in $algorithms; do
     fi
     case "$algorithm" in
       preset-sbst-any-road) search=(--algorithm wogan --preset sbst --min-road-turn 0) ;;
+      preset-sbst-remakes) search=(--algorithm wogan --preset sbst --config scripts/runs/configs/remakes.json) ;;
       preset-*) search=(--algorithm wogan --preset "${algorithm#preset-}") ;;
       *) search=(--algorithm "$algorithm") ;;
     esac

@@ -249,6 +249,7 @@ impl Target {
 fn fuzz_sample() {
     let report = fuzz(&Settings::sample(), pinned_cases());
     assert_eq!(report.failing(), 0, "{report}");
+    assert_dev_null_unharmed();
     // Inputs that reach the commands' work, not only their refusals (export once refused all).
     for target in [Target::Export, Target::Replay, Target::Sample] {
         let exported = report.tallies.get(&target).map_or(0, |t| t.exit_0);
@@ -267,6 +268,19 @@ fn fuzz_campaign() {
     let report = fuzz(&Settings::from_env(), Vec::new());
     println!("{report}");
     assert_eq!(report.failing(), 0, "failing inputs: see the classes above");
+    assert_dev_null_unharmed();
+}
+
+/// Cases name `/dev/null` as an output: it must still be the device afterwards. (An output once
+/// renamed a file over it, as root, and every later program on the machine that read /dev/null
+/// read that file.)
+fn assert_dev_null_unharmed() {
+    use std::os::unix::fs::FileTypeExt;
+    let null = std::fs::symlink_metadata("/dev/null").expect("/dev/null exists");
+    assert!(
+        null.file_type().is_char_device(),
+        "a case replaced /dev/null with a regular file (restore it: rm /dev/null && mknod -m 666 /dev/null c 1 3)"
+    );
 }
 
 /// A case is a function of its seed and index alone, so that a failure replays.

@@ -120,6 +120,9 @@ pub struct WoganConfig {
     /// Failures are gathered in niches filled one after another, kept apart by shape
     /// (`Sut::shape`; an extension; off in the paper).
     pub niches: NicheConfig,
+    /// Failing tests remade Frenetic's four ways, each remake executed once (an extension; off
+    /// in the paper).
+    pub remakes: RemakeConfig,
     /// How the acceptance target carries over between the tests of one round when several are
     /// chosen at once (`jobs` > 1); with one test per round both rules are the paper's.
     pub round_acceptance: RoundAcceptance,
@@ -165,6 +168,7 @@ impl Default for WoganConfig {
             novelty: NoveltyConfig::default(),
             shape_novelty: NoveltyConfig::default(),
             niches: NicheConfig::default(),
+            remakes: RemakeConfig::default(),
             round_acceptance: RoundAcceptance::default(),
         }
     }
@@ -394,6 +398,21 @@ impl NicheConfig {
     }
 }
 
+/// Frenetic's systematic use of its operators: every failing test, unless itself a remake, is
+/// remade four ways (mirrored, its values reversed, driven backwards: reversed and mirrored, its
+/// halves swapped), and each remake that is valid and novel is executed once, before the networks
+/// propose again. A remake keeps the failure's bends and changes where and how the car meets
+/// them, so it is a likely failure of another kind.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct RemakeConfig {
+    /// Whether failing tests are remade (false: the paper's WOGAN).
+    pub enabled: bool,
+    /// Tests of at least this fitness are the failures remade (the SUT's failure threshold;
+    /// must be above 0 when `enabled`).
+    pub min_fitness: f64,
+}
+
 /// Where the candidates ranked between niches, in the search for the next seed, come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
@@ -585,6 +604,14 @@ impl RunConfig {
                  wogan.niches.min_fitness ({}) must both be above 0 to make niches",
                 n.quota, n.radius, n.min_fitness
             )));
+        }
+        check_real(w.remakes.min_fitness, "wogan.remakes.min_fitness", 0.0, 1.0)?;
+        if w.remakes.enabled && w.remakes.min_fitness <= 0.0 {
+            return Err(Error::Config(
+                "wogan.remakes.enabled is true but wogan.remakes.min_fitness (0) must be above 0: \
+                 it says which tests are the failures remade"
+                    .into(),
+            ));
         }
         let m = &w.mutation;
         check_real(m.share, "wogan.mutation.share", 0.0, 1.0)?;

@@ -117,6 +117,15 @@
 //! ranked by the analyzer. A run ends with a few regions of failures about equal in size, far apart
 //! by shape. Off by default, and for a SUT without shapes.
 //!
+//! # Beyond the paper: remakes of failures
+//!
+//! With [`RemakeConfig::enabled`], every failing test (of at least [`RemakeConfig::min_fitness`]),
+//! unless itself a remake, is remade Frenetic's four ways: mirrored, its values reversed, driven
+//! backwards (reversed and mirrored), its halves swapped. Each remake that is valid, not executed
+//! before and novel by the novelty rules (the niches do not hold it back) is executed once, before
+//! the networks choose again; its test line's `phase` is `"remake"` and it has no
+//! `predicted_fitness`. Off by default.
+//!
 //! # The critic
 //!
 //! The gradient penalty needs the critic's gradient with respect to its input; it is written
@@ -140,14 +149,14 @@ mod stgem_parity;
 pub use budget::{Budget, SbstBudget, SbstUsage};
 pub use config::{
     limits, Algorithm, AnalyzerConfig, BetweenNiches, CriticConfig, GeneratorConfig,
-    MutationConfig, NicheConfig, NoveltyConfig, RoundAcceptance, RunConfig, SamplerConfig,
-    WganConfig, WoganConfig,
+    MutationConfig, NicheConfig, NoveltyConfig, RemakeConfig, RoundAcceptance, RunConfig,
+    SamplerConfig, WganConfig, WoganConfig,
 };
 pub use error::Error;
 pub use run::{run, run_from_snapshot, run_with_snapshot, Event, Phase, Summary};
 pub use sut::{Execution, Sut};
 pub use test_sampler::Sampler;
 pub use wogan::{
-    biased_batch, bin_of, bin_weights, BatchDraws, ModelSnapshot, NamedTensor, Proposal, RngDraws,
-    TrainStats, WoganModel,
+    biased_batch, bin_of, bin_weights, BatchDraws, ModelSnapshot, NamedTensor, Origin, Proposal,
+    RngDraws, TrainStats, WoganModel,
 };

@@ -444,6 +444,10 @@ fn search_settings(
         // Niches are filled by failures: unless told otherwise, the run's own.
         search.wogan.niches.min_fitness = fitness.failure_level(sim);
     }
+    if search.wogan.remakes.enabled && search.wogan.remakes.min_fitness == 0.0 {
+        // The failures remade are, unless told otherwise, the run's own.
+        search.wogan.remakes.min_fitness = fitness.failure_level(sim);
+    }
     if let Some(init_fraction) = args.init_fraction {
         search.wogan.init_fraction = init_fraction;
     }

@@ -17,15 +17,19 @@ pub enum Phase {
     /// A mutant of one of the best tests so far, chosen by the analyzer (see
     /// [`crate::MutationConfig`]).
     Mutant,
+    /// A remake of a failure, executed without the analyzer's say (see
+    /// [`crate::RemakeConfig`]).
+    Remake,
 }
 
 impl Phase {
-    /// The name, as test records spell it (`random`, `wogan`, `mutant`).
+    /// The name, as test records spell it (`random`, `wogan`, `mutant`, `remake`).
     pub fn name(self) -> &'static str {
         match self {
             Phase::Random => "random",
             Phase::Wogan => "wogan",
             Phase::Mutant => "mutant",
+            Phase::Remake => "remake",
         }
     }
 }

@@ -153,6 +153,7 @@ fn run_inner<S: Sut + ?Sized>(
         model.set_concurrent_training(config.jobs > 1);
         for t in &executed_tests {
             model.add_executed(sut, &t.test, t.fitness, t.failure_profile.as_deref());
+            model.queue_remakes(&t.test, t.fitness);
         }
         drop(executed_tests);
         let model = wogan_phase(

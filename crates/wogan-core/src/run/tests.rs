@@ -473,3 +473,53 @@ fn a_restarted_round_ranks_more_candidates_than_a_continued_one() {
         "restarted {restarted}, continued {continued}"
     );
 }
+
+#[test]
+fn each_wogan_failure_is_followed_by_its_new_remakes_and_remakes_are_not_remade() {
+    use crate::wogan::remakes_of;
+    let budget = Budget {
+        max_tests: Some(160),
+        wall: None,
+        sbst: None,
+    };
+    let mut config = RunConfig::default();
+    config.wogan.remakes = crate::RemakeConfig {
+        enabled: true,
+        min_fitness: 0.5,
+    };
+    let t = tests_of(&collect(&config, budget, 5).0);
+    let is_failure = |fitness: f64| fitness >= 0.5;
+    let mut followed = 0;
+    for (i, (_, phase, test, fitness)) in t.iter().enumerate() {
+        if *phase == Phase::Remake {
+            assert!(
+                t[..i].iter().any(|(_, p, parent, f)| *p != Phase::Remake
+                    && is_failure(*f)
+                    && remakes_of(parent).contains(test)),
+                "test {} is no remake of an earlier failure that is not itself a remake",
+                i + 1
+            );
+        }
+        if matches!(phase, Phase::Wogan | Phase::Mutant) && is_failure(*fitness) {
+            // One test a round: the queue was empty when this test was chosen, so its remakes
+            // come next, less those equal to it, to one another or to a test executed before.
+            let mut expected: Vec<Vec<f32>> = Vec::new();
+            for remake in remakes_of(test) {
+                let executed = t[..=i].iter().any(|x| x.2 == remake);
+                if remake != *test && !executed && !expected.contains(&remake) {
+                    expected.push(remake);
+                }
+            }
+            let next: Vec<Vec<f32>> = t[i + 1..]
+                .iter()
+                .take(expected.len())
+                .map(|x| x.2.clone())
+                .collect();
+            assert_eq!(next, expected[..next.len()], "after test {}", i + 1);
+            followed += 1;
+        }
+    }
+    assert!(followed > 0, "no failure in the WOGAN phase to follow");
+    let plain = tests_of(&collect(&RunConfig::default(), budget, 5).0);
+    assert!(plain.iter().all(|x| x.1 != Phase::Remake));
+}

@@ -18,7 +18,7 @@ use rayon::ThreadPool;
 use crate::error::Error;
 use crate::sut::{clamp_fitness, Sut};
 use crate::test_sampler::Sampler;
-use crate::wogan::{Proposal, WoganModel};
+use crate::wogan::{Origin, Proposal, WoganModel};
 
 use super::events::{test_event, Choice, Event, Phase};
 use super::execution::execute_all;
@@ -62,7 +62,7 @@ pub(super) fn wogan_phase<S: Sut + ?Sized>(
             }
         }
         let count = jobs.min(r.remaining_tests()).max(1);
-        let round = match choose_round(&model, sut, sampler, rng, count) {
+        let round = match choose_round(&mut model, sut, sampler, rng, count) {
             Ok(round) => round,
             // The loop's next check says why it ends.
             Err(Error::Interrupted) => continue,
@@ -125,10 +125,11 @@ struct Chosen {
     generation_s: f64,
 }
 
-/// Chooses `count` tests one after another, the acceptance target carried between them as the
-/// model's `round_acceptance` says.
+/// Chooses `count` tests one after another: the failures' remakes waiting first, then the
+/// networks' choices, the acceptance target carried between those as the model's
+/// `round_acceptance` says.
 fn choose_round<S: Sut + ?Sized>(
-    model: &WoganModel,
+    model: &mut WoganModel,
     sut: &S,
     sampler: &Sampler,
     rng: &mut ChaCha20Rng,
@@ -137,12 +138,22 @@ fn choose_round<S: Sut + ?Sized>(
     let rule = model.config().round_acceptance;
     let mut acceptance = model.acceptance();
     let mut round = Vec::with_capacity(count);
-    for i in 0..count {
-        if i > 0 {
+    let mut chosen_by_networks = 0;
+    for _ in 0..count {
+        let t0 = Instant::now();
+        if let Some(remake) = model.next_remake(sut) {
+            round.push(Chosen {
+                proposal: remake,
+                generation_s: t0.elapsed().as_secs_f64(),
+            });
+            continue;
+        }
+        if chosen_by_networks > 0 {
             acceptance.next_choice(rule);
         }
-        let t0 = Instant::now();
-        let proposal = model.propose_with(sut, sampler, rng, &mut acceptance)?;
+        let mut proposal = model.propose_with(sut, sampler, rng, &mut acceptance)?;
+        proposal.invalid += model.take_invalid_remakes();
+        chosen_by_networks += 1;
         round.push(Chosen {
             proposal,
             generation_s: t0.elapsed().as_secs_f64(),
@@ -206,15 +217,18 @@ fn execute_round<S: Sut + ?Sized>(
             let niches = &model.config().niches;
             let failure_profile = niches.failure_profile(sut, fitness, &e.output);
             model.add_executed(sut, &p.test, fitness, failure_profile.as_deref());
+            if p.origin != Origin::Remake {
+                model.queue_remakes(&p.test, fitness);
+            }
             learnt += 1;
             r.summary.executed += 1;
         }
         on_event(test_event(
             r.summary.executed + usize::from(charge.beyond_budget),
-            if p.mutant {
-                Phase::Mutant
-            } else {
-                Phase::Wogan
+            match p.origin {
+                Origin::Generator => Phase::Wogan,
+                Origin::Mutant => Phase::Mutant,
+                Origin::Remake => Phase::Remake,
             },
             p.test,
             fitness,

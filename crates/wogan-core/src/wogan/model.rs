@@ -12,6 +12,7 @@ use super::bins::{biased_batch, bin_of, RngDraws};
 use super::mutation::{mutate, parent_indices};
 use super::niches::{NicheRole, Niches};
 use super::novelty::is_novel;
+use super::remakes::RemakeQueue;
 use super::training_round::{AnalyzerSteps, TrainingData};
 use crate::config::{BetweenNiches, MutationConfig, WoganConfig};
 use crate::error::Error;
@@ -41,14 +42,33 @@ pub struct TrainStats {
 pub struct Proposal {
     /// A valid test.
     pub test: Vec<f32>,
-    /// The analyzer's prediction, `None` when the generator gave up and a random test was drawn.
+    /// The analyzer's prediction, `None` when no network chose the test: the generator gave up
+    /// and a random test was drawn, or it is a remake.
     pub predicted: Option<f64>,
     /// Invalid candidates (generated or random) rejected on the way.
     pub invalid: usize,
     /// Valid candidates the analyzer ranked on the way: the acceptance rule's selection pressure.
     pub ranked: usize,
-    /// Whether the test is a mutant of an earlier one rather than the generator's.
-    pub mutant: bool,
+    /// Where the test comes from.
+    pub origin: Origin,
+}
+
+/// Where a proposed test comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Origin {
+    /// The generator (or the random fallback after too many invalid candidates).
+    Generator,
+    /// A mutant of one of the best tests so far ([`crate::MutationConfig`]).
+    Mutant,
+    /// A remake of a failure ([`crate::RemakeConfig`]).
+    Remake,
+}
+
+/// Whether the niches constrain a candidate ([`WoganModel::passes_novelty`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum NicheRule {
+    Apply,
+    Ignore,
 }
 
 /// WOGAN's data and networks.
@@ -77,6 +97,10 @@ pub struct WoganModel {
     inference: Option<(Generator, Analyzer)>,
     /// Whether the analyzer trains on a second thread beside the WGAN.
     concurrent_training: bool,
+    /// The failures' remakes waiting to be executed (`remakes`), and the invalid ones skipped
+    /// since the last proposal.
+    remakes: RemakeQueue,
+    invalid_remakes: usize,
 }
 
 impl WoganModel {
@@ -100,6 +124,8 @@ impl WoganModel {
             rounds: 0,
             inference: None,
             concurrent_training: false,
+            remakes: RemakeQueue::default(),
+            invalid_remakes: 0,
         }
     }
 
@@ -184,6 +210,45 @@ impl WoganModel {
         }
     }
 
+    /// Queues the remakes of the executed `test` when it is a failure by `remakes` (on).
+    pub(crate) fn queue_remakes(&mut self, test: &[f32], fitness: f64) {
+        let rule = &self.cfg.remakes;
+        if rule.enabled && fitness >= rule.min_fitness {
+            self.remakes.queue_remakes_of(test);
+        }
+    }
+
+    /// The next waiting remake that is valid, not a test executed before and novel by the
+    /// novelty rules. The niches do not constrain it: a remake is meant to leave its failure's
+    /// niche (it may seed another). Invalid remakes skipped on the way are counted in the next
+    /// proposal ([`Self::take_invalid_remakes`]).
+    pub(crate) fn next_remake<S: Sut + ?Sized>(&mut self, sut: &S) -> Option<Proposal> {
+        while let Some(remake) = self.remakes.pop() {
+            if !sut.is_valid(&remake) {
+                self.invalid_remakes += 1;
+                continue;
+            }
+            let executed_before = self.tests.chunks_exact(self.dim).any(|t| t == remake);
+            let anchors = self.novelty_anchors();
+            if executed_before || !self.passes_novelty(sut, &remake, anchors, NicheRule::Ignore) {
+                continue;
+            }
+            return Some(Proposal {
+                test: remake,
+                predicted: None,
+                invalid: self.take_invalid_remakes(),
+                ranked: 0,
+                origin: Origin::Remake,
+            });
+        }
+        None
+    }
+
+    /// The invalid remakes skipped since the last proposal, counted once.
+    pub(crate) fn take_invalid_remakes(&mut self) -> usize {
+        std::mem::take(&mut self.invalid_remakes)
+    }
+
     /// Which tests may not be mutation parents because of the niches: while one is open, all
     /// but its failures (it is the region being exploited). Otherwise none: a reshaped mutant of
     /// any test (a mirrored road, say) may seed the next niche.
@@ -202,16 +267,32 @@ impl WoganModel {
         self.niches.closed()
     }
 
-    /// Whether candidate `c` is far enough from the executed tests by both novelty rules, and
-    /// where the niches admit it.
-    fn is_novel_candidate<S: Sut + ?Sized>(&self, sut: &S, c: &[f32], anchors: &[f32]) -> bool {
+    /// The tests that keep candidates away by the value novelty rule.
+    fn novelty_anchors(&self) -> &[f32] {
+        if self.cfg.novelty.min_fitness > 0.0 {
+            &self.novelty_anchors
+        } else {
+            &self.tests
+        }
+    }
+
+    /// Whether candidate `c` is far enough from `anchors` and the executed tests' shapes by both
+    /// novelty rules, and, under `niches`, where the open niche (or the search between niches)
+    /// admits it.
+    fn passes_novelty<S: Sut + ?Sized>(
+        &self,
+        sut: &S,
+        c: &[f32],
+        anchors: &[f32],
+        niches: NicheRule,
+    ) -> bool {
         let rule = &self.cfg.novelty;
         if !is_novel(c, anchors, rule.distance, rule.allowed_neighbours) {
             return false;
         }
         let rule = &self.cfg.shape_novelty;
         let shape_rule_applies = rule.distance > 0.0 && !self.shape_anchors.is_empty();
-        let niches_apply = self.niches.constrain();
+        let niches_apply = niches == NicheRule::Apply && self.niches.constrain();
         if !(shape_rule_applies || niches_apply) {
             return true;
         }
@@ -223,7 +304,7 @@ impl WoganModel {
                     rule.distance,
                     rule.allowed_neighbours,
                 ))
-                && self.niches.admits(&shape)
+                && (!niches_apply || self.niches.admits(&shape))
         })
     }
 
@@ -386,11 +467,7 @@ impl WoganModel {
         } else {
             Vec::new()
         };
-        let anchors = if self.cfg.novelty.min_fitness > 0.0 {
-            &self.novelty_anchors
-        } else {
-            &self.tests
-        };
+        let anchors = self.novelty_anchors();
         let mut best: Option<(Vec<f32>, bool)> = None;
         let mut invalid = 0usize;
         let mut streak = 0usize;
@@ -412,7 +489,7 @@ impl WoganModel {
                 let is_invalid = !sut.is_valid(c);
                 // A candidate too near a test executed before is skipped like an invalid one
                 // but not counted as invalid (`novelty`).
-                if is_invalid || !self.is_novel_candidate(sut, c, anchors) {
+                if is_invalid || !self.passes_novelty(sut, c, anchors, NicheRule::Apply) {
                     invalid += usize::from(is_invalid);
                     streak += 1;
                     if streak >= self.cfg.max_invalid_streak {
@@ -422,7 +499,7 @@ impl WoganModel {
                             predicted: None,
                             invalid,
                             ranked: acceptance.ranked(),
-                            mutant: false,
+                            origin: Origin::Generator,
                         });
                     }
                     continue;
@@ -439,7 +516,11 @@ impl WoganModel {
                             predicted: Some(acceptance.best()),
                             invalid,
                             ranked: acceptance.ranked(),
-                            mutant,
+                            origin: if mutant {
+                                Origin::Mutant
+                            } else {
+                                Origin::Generator
+                            },
                         });
                     }
                 }
@@ -640,7 +721,7 @@ mod tests {
         model.train(0.0, &mut rng).unwrap();
         for _ in 0..5 {
             let p = model.propose(&Anything, &sampler, &mut rng).unwrap();
-            assert!(p.mutant);
+            assert_eq!(p.origin, Origin::Mutant);
             for (c, b) in p.test.iter().zip(best) {
                 assert!(
                     (c - b).abs() <= cfg.mutation.max_step + 1e-6,
@@ -654,7 +735,10 @@ mod tests {
         paper.add(&best, 0.9);
         paper.add(&[0.0, 0.0, 0.0], 0.1);
         paper.train(0.0, &mut rng).unwrap();
-        assert!(!paper.propose(&Anything, &sampler, &mut rng).unwrap().mutant);
+        assert_eq!(
+            paper.propose(&Anything, &sampler, &mut rng).unwrap().origin,
+            Origin::Generator
+        );
     }
 
     #[test]
@@ -920,7 +1004,7 @@ mod tests {
         };
         let (random, draws) = proposal_and_draws(BetweenNiches::Random);
         assert!(random.predicted.is_some(), "ranked, not a fallback");
-        assert!(!random.mutant);
+        assert_eq!(random.origin, Origin::Generator);
         assert!(
             draws.contains(&random.test),
             "not one of the sampler's draws"
