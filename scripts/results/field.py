@@ -205,7 +205,6 @@ def field_section():
         "other stops this page as the harness's defect).")
     for oracle in ORACLES:
         page = page_tables("The SBST 2022 field on our simulator", oracle)
-        kept = False
         groups = []
         for tag, name in OURS:
             paths = runs_of(f"target/sbst/{oracle}.{tag}")
@@ -217,38 +216,15 @@ def field_section():
         out()
         out(f"### {oracle}")
         out()
-        out("| tool | runs | " + " | ".join(label for _, label in FIELD_ROWS) + " |")
-        out("|---|---|" + "---|" * len(FIELD_ROWS))
-        for name, paths in groups:
-            if not paths:
-                row = kept_row(page, 0, name, 1)
-                kept |= row is not None
-                out(row or f"| {name} | 0 |" + " – |" * len(FIELD_ROWS))
-                continue
-            cells = mean_cells(paths, [key for key, _ in FIELD_ROWS])
-            out(f"| {name} | {runs_cell(paths)} | " + " | ".join(cells) + " |")
+        kept = means_table(page, groups, FIELD_ROWS, "tool")
         preset = groups[0][1]
         if not preset:
             continue
         out()
         out("`--preset sbst` (A) against each other row (B), Mann–Whitney U, two-sided:")
         out()
-        out("| B | " + " | ".join(f"{m}: A / B, p" for m in FIELD_COMPARED) + " |")
-        out("|---|" + "---|" * len(FIELD_COMPARED))
-        behind = []
-        for name, paths in groups[1:]:
-            if not paths:
-                row = kept_row(page, 1, name, 0)
-                kept |= row is not None
-                if row:
-                    out(row)
-                    cells = [c.strip() for c in row.strip().strip("|").split("|")][1:]
-                    behind += behind_on(name, dict(zip(FIELD_COMPARED, cells)))
-                continue
-            rows = compared(preset, paths, FIELD_COMPARED)
-            out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
-            behind += behind_on(name, rows)
-        if kept:
+        behind, _, kept_compared = comparison_table(page, groups)
+        if kept or kept_compared:
             out()
             out(kept_note(page_commit()))
         out()
@@ -256,3 +232,46 @@ def field_section():
             out("Where `--preset sbst` is behind (A below B, p < 0.05): " + "; ".join(behind) + ".")
         else:
             out("`--preset sbst` is behind no row on these figures (A below B, p < 0.05).")
+
+
+def means_table(page, groups, measures, first):
+    """Writes the table of each group's means of `measures` (key, label), its first column headed
+    `first`; a group without runs takes the page's row (page_tables table 0) when it has one.
+    Returns whether a row was so kept."""
+    kept = False
+    out(f"| {first} | runs | " + " | ".join(label for _, label in measures) + " |")
+    out("|---|---|" + "---|" * len(measures))
+    for name, paths in groups:
+        if not paths:
+            row = kept_row(page, 0, name, 1)
+            kept |= row is not None
+            out(row or f"| {name} | 0 |" + " – |" * len(measures))
+            continue
+        cells = mean_cells(paths, [key for key, _ in measures])
+        out(f"| {name} | {runs_cell(paths)} | " + " | ".join(cells) + " |")
+    return kept
+
+
+def comparison_table(page, groups):
+    """Writes the first group (the preset) against each other on FIELD_COMPARED; a group without
+    runs takes the page's row (table 1) when it has one. Returns the measures it is behind on
+    (behind_on), the groups with neither runs nor a row, and whether a row was kept."""
+    preset = groups[0][1]
+    out("| B | " + " | ".join(f"{m}: A / B, p" for m in FIELD_COMPARED) + " |")
+    out("|---|" + "---|" * len(FIELD_COMPARED))
+    behind, missing, kept = [], [], False
+    for name, paths in groups[1:]:
+        if not paths:
+            row = kept_row(page, 1, name, 0)
+            kept |= row is not None
+            if row:
+                out(row)
+                cells = [c.strip() for c in row.strip().strip("|").split("|")][1:]
+                behind += behind_on(name, dict(zip(FIELD_COMPARED, cells)))
+            else:
+                missing.append(name)
+            continue
+        rows = compared(preset, paths, FIELD_COMPARED)
+        out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
+        behind += behind_on(name, rows)
+    return behind, missing, kept

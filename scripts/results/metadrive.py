@@ -207,7 +207,6 @@ def calibrated_idm_section():
         "our simulator\". A row with 0 runs was not run on the machine that made this page. The "
         "campaign's log: docs/experiments/2026-12-07-field-on-calibrated-idm-first-look.md.")
     page = field.page_tables(CALIBRATED_HEADING, "`--policy idm` at 46 km/h")
-    kept = False
     ours = dict(field.OURS)
     groups = [(ours[tag], finished(runs_of(f"{CALIBRATED_RUNS}/idm.{tag}")))
               for tag in ("preset-sbst", "wogan", "random")]
@@ -215,40 +214,15 @@ def calibrated_idm_section():
     out()
     out("### `--policy idm` at 46 km/h")
     out()
-    out("| search | runs | " + " | ".join(label for _, label in CALIBRATED_ROWS) + " |")
-    out("|---|---|" + "---|" * len(CALIBRATED_ROWS))
-    for name, paths in groups:
-        if not paths:
-            row = field.kept_row(page, 0, name, 1)
-            kept |= row is not None
-            out(row or f"| {name} | 0 |" + " – |" * len(CALIBRATED_ROWS))
-            continue
-        cells = mean_cells(paths, [key for key, _ in CALIBRATED_ROWS])
-        out(f"| {name} | {field.runs_cell(paths)} | " + " | ".join(cells) + " |")
+    kept = field.means_table(page, groups, CALIBRATED_ROWS, "search")
     preset = groups[0][1]
     if preset:
         out()
         out("`--preset sbst` (A) against each other row (B), Mann–Whitney U, two-sided "
             "(`wogan report A --vs B --table`):")
         out()
-        out("| B | " + " | ".join(f"{m}: A / B, p" for m in FIELD_COMPARED) + " |")
-        out("|---|" + "---|" * len(FIELD_COMPARED))
-        behind, missing = [], []
-        for name, paths in groups[1:]:
-            if not paths:
-                row = field.kept_row(page, 1, name, 0)
-                kept |= row is not None
-                if row:
-                    out(row)
-                    cells = [c.strip() for c in row.strip().strip("|").split("|")][1:]
-                    behind += field.behind_on(name, dict(zip(FIELD_COMPARED, cells)))
-                else:
-                    missing.append(name)
-                continue
-            rows = compared(preset, paths, FIELD_COMPARED)
-            out(f"| {name} | " + " | ".join(rows.get(m, "–") for m in FIELD_COMPARED) + " |")
-            behind += field.behind_on(name, rows)
-        if kept:
+        behind, missing, kept_compared = field.comparison_table(page, groups)
+        if kept or kept_compared:
             out()
             out(field.kept_note(field.page_commit()))
         # The issue's bar for the peers on this subject: 5 runs each, AmbieGen 3.
